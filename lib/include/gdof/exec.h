@@ -1,0 +1,24 @@
+// How a library call runs: thread count, cancellation, progress. Kernels see
+// sub-regions, never threads; results never depend on the thread count.
+#pragma once
+
+#include <functional>
+
+namespace gdof {
+
+struct Exec {
+    int nthreads = 0;                             // 0: all cores
+    std::function<bool()> cancelled;              // polled per row/tile; true stops the work
+    std::function<void(double fraction)> progress;  // 0..1, called from any thread, throttled
+
+    bool is_cancelled() const { return cancelled && cancelled(); }
+    void report(double fraction) const {
+        if (progress) progress(fraction);
+    }
+};
+
+// Runs f(begin, end) over [0, n) in parallel chunks on nthreads (TBB arena).
+// Returns false if cancelled. Chunking never affects results.
+bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain = 1);
+
+}  // namespace gdof

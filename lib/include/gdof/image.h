@@ -1,0 +1,143 @@
+// The flat image model: planar float channels with names, a data window and a
+// display window (both in absolute pixel coordinates, either may have negative
+// origins, the data window may lie partly or wholly outside the display
+// window, and may be empty), plus metadata. ImageView is a non-owning strided
+// view so host memory (OFX) is processed without copies.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gdof/metadata.h"
+
+namespace gdof {
+
+// Half-open pixel rectangle [x0, x1) x [y0, y1), absolute coordinates.
+// (EXR stores inclusive max; the I/O layer converts.)
+struct Roi {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+
+    constexpr int width() const { return x1 > x0 ? x1 - x0 : 0; }
+    constexpr int height() const { return y1 > y0 ? y1 - y0 : 0; }
+    constexpr bool empty() const { return width() == 0 || height() == 0; }
+    constexpr std::size_t npixels() const { return std::size_t(width()) * std::size_t(height()); }
+    constexpr bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+    constexpr bool operator==(const Roi&) const = default;
+    // Grown by r pixels on every side (r may be negative).
+    constexpr Roi grown(int r) const { return {x0 - r, y0 - r, x1 + r, y1 + r}; }
+};
+Roi intersect(const Roi& a, const Roi& b);  // empty Roi if disjoint
+Roi unite(const Roi& a, const Roi& b);      // bounding box; an empty side is ignored
+std::string to_string(const Roi& r);        // "[x0,x1)x[y0,y1)"
+
+// Storage type of a channel in its file. Half and Float are processed as
+// float; UInt (ids) is kept exactly as uint32 and never blurred.
+enum class PixelType : std::uint8_t { Half, Float, UInt };
+const char* to_string(PixelType t);
+
+struct ChannelSpec {
+    std::string name;  // full name, "layer.channel" for multilayer EXR
+    PixelType type = PixelType::Float;
+    bool operator==(const ChannelSpec&) const = default;
+};
+
+// How the file was laid out, so a round trip writes it back the same way.
+struct StorageHints {
+    int tile_width = 0, tile_height = 0;  // 0: scanline
+    std::string compression;              // OIIO name ("zip", "piz", "dwaa:45"); empty: default
+    std::string format;                   // source format name ("openexr", "png")
+};
+
+// Strided non-owning view: the value of channel c at absolute pixel (x, y) is
+// base[c * cstride + (x - window.x0) * xstride + (y - window.y0) * ystride].
+// Planar images and interleaved host buffers (negative ystride for bottom-up
+// rows) are both expressible.
+template <class T>
+struct BasicImageView {
+    T* base = nullptr;
+    int nchannels = 0;
+    Roi window;
+    std::ptrdiff_t cstride = 0, xstride = 0, ystride = 0;  // in elements
+
+    T& at(int c, int x, int y) const {
+        return base[c * cstride + std::ptrdiff_t(x - window.x0) * xstride +
+                    std::ptrdiff_t(y - window.y0) * ystride];
+    }
+    bool valid() const { return base != nullptr || window.empty(); }
+    // Interleaved buffer (e.g. OFX RGBA float): rowbytes may be negative.
+    static BasicImageView interleaved(T* base, int nchannels, Roi window, std::ptrdiff_t row_stride_elems) {
+        return {base, nchannels, window, 1, nchannels, row_stride_elems};
+    }
+};
+using ImageView = BasicImageView<float>;
+using ConstImageView = BasicImageView<const float>;
+
+class Image {
+public:
+    Image() = default;
+    // Zero-filled image. The display window defaults to the data window.
+    Image(std::vector<ChannelSpec> channels, Roi data_window);
+    Image(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window);
+    // Convenience: float channels by name.
+    static Image with_channels(const std::vector<std::string>& names, Roi data_window);
+
+    int nchannels() const { return int(channels_.size()); }
+    const std::vector<ChannelSpec>& channels() const { return channels_; }
+    const ChannelSpec& channel(int c) const { return channels_[std::size_t(c)]; }
+    void set_channel_type(int c, PixelType t);  // Half <-> Float only; UInt is fixed
+    void rename_channel(int c, std::string name) { channels_[std::size_t(c)].name = std::move(name); }
+    int channel_index(std::string_view name) const;  // -1 if absent
+    // Adds a channel (zero-filled) and returns its index.
+    int add_channel(ChannelSpec spec);
+    void remove_channel(int c);
+
+    const Roi& data_window() const { return data_; }
+    const Roi& display_window() const { return display_; }
+    void set_display_window(const Roi& r) { display_ = r; }
+    int width() const { return data_.width(); }
+    int height() const { return data_.height(); }
+    std::size_t npixels() const { return data_.npixels(); }
+
+    // Planes are row-major over the data window, row stride = width().
+    // plane() is for Half/Float channels (nullptr for UInt); uplane() for UInt.
+    float* plane(int c) { return fplanes_[std::size_t(c)].empty() ? nullptr : fplanes_[std::size_t(c)].data(); }
+    const float* plane(int c) const { return fplanes_[std::size_t(c)].empty() ? nullptr : fplanes_[std::size_t(c)].data(); }
+    std::uint32_t* uplane(int c) { return uplanes_[std::size_t(c)].empty() ? nullptr : uplanes_[std::size_t(c)].data(); }
+    const std::uint32_t* uplane(int c) const { return uplanes_[std::size_t(c)].empty() ? nullptr : uplanes_[std::size_t(c)].data(); }
+
+    std::size_t offset(int x, int y) const {
+        return std::size_t(y - data_.y0) * std::size_t(width()) + std::size_t(x - data_.x0);
+    }
+    // Absolute coordinates; must lie in the data window. Float channels only.
+    float& at(int c, int x, int y) { return fplanes_[std::size_t(c)][offset(x, y)]; }
+    float at(int c, int x, int y) const { return fplanes_[std::size_t(c)][offset(x, y)]; }
+    // Value as float for any channel type (UInt converted), 0 outside the data window.
+    float sample(int c, int x, int y) const;
+
+    // Strided view of one float channel over the data window.
+    ConstImageView channel_view(int c) const;
+    ImageView channel_view(int c);
+
+    Metadata metadata;
+    std::string name;  // EXR part name, kept on write
+    std::string view;  // EXR multi-view name ("left"), kept on write
+    StorageHints storage;
+
+private:
+    std::vector<ChannelSpec> channels_;
+    Roi data_, display_;
+    std::vector<std::vector<float>> fplanes_;
+    std::vector<std::vector<std::uint32_t>> uplanes_;
+};
+
+// Helpers for the usual channel sets.
+// Indices of R,G,B,A (or layer.R ...) for the given layer prefix ("" for none).
+struct RgbaIndices {
+    int r = -1, g = -1, b = -1, a = -1;
+};
+RgbaIndices find_rgba(const Image& img, std::string_view layer = "");
+
+}  // namespace gdof

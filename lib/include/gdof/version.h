@@ -1,0 +1,4 @@
+#pragma once
+namespace gdof {
+inline const char* version() { return GDOF_VERSION_STRING; }
+}

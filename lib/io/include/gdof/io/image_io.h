@@ -1,0 +1,56 @@
+// Reading and writing image files (gdof::io, via OpenImageIO / OpenEXR).
+//
+// - EXR: single-part flat (multilayer "layer.channel" names kept as they are),
+//   multipart (one ImageSet part per file part, part names and views kept),
+//   deep scanline and deep tiled (every sample kept). half/float/uint channel
+//   types, data and display windows, tiling and compression, and every header
+//   attribute (camera: worldToCamera, worldToNDC; lens: focalLength, aperture
+//   / fNumber, focusDistance ...) survive a round trip.
+// - PNG/JPEG/TIFF/... in (and out) as OIIO allows. Integer images become
+//   float; colour is converted to scene-linear on read (see colour.h).
+// - Writes are atomic: a temporary file beside the target, renamed on success;
+//   on any failure no file is left at the target path.
+#pragma once
+
+#include <string>
+
+#include "gdof/image_set.h"
+#include "gdof/io/colour.h"
+#include "gdof/status.h"
+
+namespace gdof::io {
+
+struct ReadOptions {
+    // Convert colour channels to the working space (scene-linear) on read.
+    // The source space comes from `colorspace` if set, else file metadata
+    // (oiio:ColorSpace), else by format: 8/16-bit PNG/JPEG/TIFF are sRGB,
+    // EXR/HDR/float TIFF are linear.
+    bool linearize = true;
+    std::string colorspace;
+    const ColourConfig* colour = nullptr;  // nullptr: ColourConfig::default_config()
+};
+
+struct WriteOptions {
+    // Channel storage type for float channels: "" keeps each channel's type
+    // (Half stays half, Float stays float), else "half" or "float" for all.
+    std::string pixel_type;
+    std::string compression;  // "" keeps the image's StorageHints, else OIIO name
+    // Output colour space for display-referred formats (PNG/JPEG/8-bit TIFF):
+    // "" means sRGB for those formats and linear (no conversion) for EXR.
+    std::string colorspace;
+    const ColourConfig* colour = nullptr;
+};
+
+Result<ImageSet> read_image(const std::string& path, const ReadOptions& opts = {});
+Status write_image(const std::string& path, const ImageSet& images, const WriteOptions& opts = {});
+
+// Convenience for single flat images.
+Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
+Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
+
+// Human-readable description of a file's contents for `gdof --info`:
+// parts, layers and channels with types, windows, deep sample statistics,
+// camera and lens attributes.
+std::string describe(const ImageSet& images, const std::string& path, bool verbose);
+
+}  // namespace gdof::io

@@ -1,0 +1,1 @@
+// implemented by the I/O work in progress

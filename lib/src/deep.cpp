@@ -1,0 +1,66 @@
+#include "gdof/deep.h"
+
+#include <stdexcept>
+
+namespace gdof {
+
+DeepImage::DeepImage(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window)
+    : channels_(std::move(channels)), data_(data_window), display_(display_window) {
+    fsamples_.resize(channels_.size());
+    usamples_.resize(channels_.size());
+    set_sample_counts(std::vector<std::uint32_t>(npixels(), 0u));
+}
+
+int DeepImage::channel_index(std::string_view name) const {
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (channels_[c].name == name) return int(c);
+    return -1;
+}
+
+static bool ends_with_channel(const std::string& name, std::string_view base) {
+    if (name == base) return true;
+    return name.size() > base.size() && name.compare(name.size() - base.size(), base.size(), base) == 0 &&
+           name[name.size() - base.size() - 1] == '.';
+}
+
+int DeepImage::z_channel() const {
+    int i = channel_index("Z");
+    if (i >= 0) return i;
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (ends_with_channel(channels_[c].name, "Z")) return int(c);
+    return -1;
+}
+
+int DeepImage::zback_channel() const {
+    int i = channel_index("ZBack");
+    if (i >= 0) return i;
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (ends_with_channel(channels_[c].name, "ZBack")) return int(c);
+    return -1;
+}
+
+void DeepImage::set_channel_type(int c, PixelType t) {
+    auto& ch = channels_[std::size_t(c)];
+    if ((ch.type == PixelType::UInt) != (t == PixelType::UInt))
+        throw std::logic_error("DeepImage::set_channel_type: cannot convert between uint and float storage");
+    ch.type = t;
+}
+
+void DeepImage::set_sample_counts(const std::vector<std::uint32_t>& counts) {
+    if (counts.size() != npixels())
+        throw std::invalid_argument("DeepImage::set_sample_counts: expected one count per pixel");
+    counts_ = counts;
+    offsets_.assign(counts_.size() + 1, 0);
+    for (std::size_t i = 0; i < counts_.size(); ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
+    for (std::size_t c = 0; c < channels_.size(); ++c) {
+        if (channels_[c].type == PixelType::UInt) {
+            usamples_[c].assign(total_samples(), 0u);
+            fsamples_[c].clear();
+        } else {
+            fsamples_[c].assign(total_samples(), 0.0f);
+            usamples_[c].clear();
+        }
+    }
+}
+
+}  // namespace gdof

@@ -1,0 +1,115 @@
+#include "gdof/image.h"
+
+#include <algorithm>
+#include <cassert>
+#include <stdexcept>
+
+namespace gdof {
+
+Roi intersect(const Roi& a, const Roi& b) {
+    Roi r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+    if (r.empty()) return {r.x0, r.y0, r.x0, r.y0};
+    return r;
+}
+
+Roi unite(const Roi& a, const Roi& b) {
+    if (a.empty()) return b;
+    if (b.empty()) return a;
+    return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
+
+std::string to_string(const Roi& r) {
+    return "[" + std::to_string(r.x0) + "," + std::to_string(r.x1) + ")x[" + std::to_string(r.y0) + "," +
+           std::to_string(r.y1) + ")";
+}
+
+const char* to_string(PixelType t) {
+    switch (t) {
+        case PixelType::Half: return "half";
+        case PixelType::Float: return "float";
+        case PixelType::UInt: return "uint";
+    }
+    return "?";
+}
+
+Image::Image(std::vector<ChannelSpec> channels, Roi data_window)
+    : Image(std::move(channels), data_window, data_window) {}
+
+Image::Image(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window)
+    : channels_(std::move(channels)), data_(data_window), display_(display_window) {
+    // Keep a degenerate (x1 < x0) window representable but allocate nothing for it.
+    fplanes_.resize(channels_.size());
+    uplanes_.resize(channels_.size());
+    for (std::size_t c = 0; c < channels_.size(); ++c) {
+        if (channels_[c].type == PixelType::UInt)
+            uplanes_[c].assign(npixels(), 0u);
+        else
+            fplanes_[c].assign(npixels(), 0.0f);
+    }
+}
+
+Image Image::with_channels(const std::vector<std::string>& names, Roi data_window) {
+    std::vector<ChannelSpec> specs;
+    for (const auto& n : names) specs.push_back({n, PixelType::Float});
+    return Image(std::move(specs), data_window);
+}
+
+void Image::set_channel_type(int c, PixelType t) {
+    auto& ch = channels_[std::size_t(c)];
+    if ((ch.type == PixelType::UInt) != (t == PixelType::UInt))
+        throw std::logic_error("Image::set_channel_type: cannot convert between uint and float storage");
+    ch.type = t;
+}
+
+int Image::channel_index(std::string_view name) const {
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (channels_[c].name == name) return int(c);
+    return -1;
+}
+
+int Image::add_channel(ChannelSpec spec) {
+    bool is_uint = spec.type == PixelType::UInt;
+    channels_.push_back(std::move(spec));
+    fplanes_.emplace_back();
+    uplanes_.emplace_back();
+    if (is_uint)
+        uplanes_.back().assign(npixels(), 0u);
+    else
+        fplanes_.back().assign(npixels(), 0.0f);
+    return nchannels() - 1;
+}
+
+void Image::remove_channel(int c) {
+    channels_.erase(channels_.begin() + c);
+    fplanes_.erase(fplanes_.begin() + c);
+    uplanes_.erase(uplanes_.begin() + c);
+}
+
+float Image::sample(int c, int x, int y) const {
+    if (!data_.contains(x, y)) return 0.0f;
+    if (channels_[std::size_t(c)].type == PixelType::UInt) return float(uplanes_[std::size_t(c)][offset(x, y)]);
+    return fplanes_[std::size_t(c)][offset(x, y)];
+}
+
+ConstImageView Image::channel_view(int c) const {
+    return {plane(c), 1, data_, 0, 1, std::ptrdiff_t(width())};
+}
+
+ImageView Image::channel_view(int c) {
+    return {plane(c), 1, data_, 0, 1, std::ptrdiff_t(width())};
+}
+
+RgbaIndices find_rgba(const Image& img, std::string_view layer) {
+    std::string prefix = layer.empty() ? std::string() : std::string(layer) + ".";
+    auto find = [&](std::initializer_list<const char*> names) {
+        for (const char* n : names) {
+            int i = img.channel_index(prefix + n);
+            if (i >= 0) return i;
+        }
+        return -1;
+    };
+    return {find({"R", "r", "red"}), find({"G", "g", "green"}), find({"B", "b", "blue"}),
+            find({"A", "a", "alpha"})};
+}
+
+}  // namespace gdof

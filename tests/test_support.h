@@ -1,0 +1,93 @@
+// Shared helpers for gdof tests: scratch folders, the shared real-data path,
+// and running the CLI.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace gdof::test {
+
+namespace fs = std::filesystem;
+
+// A fresh folder per test, removed afterwards unless GDOF_KEEP_TEST_FILES is set.
+class ScratchDir {
+public:
+    ScratchDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "gdof";
+        for (char& ch : name)
+            if (ch == '/') ch = '_';
+        path_ = fs::temp_directory_path() / ("gdof_test_" + std::to_string(::getpid()) + "_" + name);
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~ScratchDir() {
+        if (!std::getenv("GDOF_KEEP_TEST_FILES")) {
+            std::error_code ec;
+            fs::remove_all(path_, ec);
+        }
+    }
+    const fs::path& path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    fs::path path_;
+};
+
+// The shared real-data folder ($GDOF_SHARED_DATA overrides the build-time path).
+inline fs::path shared_data() {
+    if (const char* env = std::getenv("GDOF_SHARED_DATA")) return env;
+    return GDOF_SHARED_DATA;
+}
+
+// Path of a shared data file, or "" when absent (callers GTEST_SKIP with a message).
+inline std::string shared_file(const std::string& rel) {
+    fs::path p = shared_data() / rel;
+    return fs::exists(p) ? p.string() : std::string();
+}
+
+#define GDOF_REQUIRE_SHARED(var, rel)                                                                 \
+    std::string var = ::gdof::test::shared_file(rel);                                               \
+    if (var.empty())                                                                                \
+        GTEST_SKIP() << "shared test data '" << (rel) << "' not found under "                       \
+                     << ::gdof::test::shared_data() << " (set GDOF_SHARED_DATA); skipping"
+
+struct CommandResult {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs a shell command, capturing stdout+stderr.
+inline CommandResult run_command(const std::string& cmd) {
+    CommandResult r;
+    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    int st = ::pclose(p);
+    r.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    return r;
+}
+
+// Runs the gdof CLI with the given arguments (already shell-quoted as needed).
+inline CommandResult run_gdof(const std::string& args) {
+    return run_command(std::string("'") + GDOF_CLI_PATH + "' " + args);
+}
+
+inline std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) {
+        if (c == '\'') q += "'\\''";
+        else q += c;
+    }
+    return q + "'";
+}
+
+}  // namespace gdof::test

@@ -1,0 +1,81 @@
+#include <gtest/gtest.h>
+
+#include "gdof/deep.h"
+#include "gdof/image.h"
+#include "gdof/math.h"
+
+using namespace gdof;
+
+TEST(Roi, IntersectUniteAndEmpty) {
+    Roi a{-10, -5, 10, 5}, b{5, 0, 20, 30};
+    EXPECT_EQ(intersect(a, b), (Roi{5, 0, 10, 5}));
+    EXPECT_EQ(unite(a, b), (Roi{-10, -5, 20, 30}));
+    EXPECT_TRUE(intersect(a, Roi{50, 50, 60, 60}).empty());
+    EXPECT_EQ(unite(Roi{}, b), b);
+    EXPECT_EQ(a.npixels(), 200u);
+}
+
+TEST(Image, NegativeOriginWindowsAndAddressing) {
+    // Data window partly outside the display window, negative origin.
+    Image img({{"R", PixelType::Half}, {"id", PixelType::UInt}}, Roi{-3, -2, 5, 4}, Roi{0, 0, 4, 4});
+    EXPECT_EQ(img.width(), 8);
+    EXPECT_EQ(img.height(), 6);
+    ASSERT_NE(img.plane(0), nullptr);
+    EXPECT_EQ(img.plane(1), nullptr);
+    ASSERT_NE(img.uplane(1), nullptr);
+    img.at(0, -3, -2) = 1.5f;
+    img.at(0, 4, 3) = 2.5f;
+    EXPECT_EQ(img.plane(0)[0], 1.5f);
+    EXPECT_EQ(img.plane(0)[img.npixels() - 1], 2.5f);
+    img.uplane(1)[img.offset(0, 0)] = 4000000000u;  // beyond float precision, must stay exact
+    EXPECT_EQ(img.uplane(1)[img.offset(0, 0)], 4000000000u);
+    EXPECT_EQ(img.sample(0, 100, 100), 0.0f);
+    EXPECT_EQ(img.channel_index("id"), 1);
+    EXPECT_EQ(img.channel_index("nope"), -1);
+}
+
+TEST(Image, EmptyDataWindowAllocatesNothing) {
+    Image img = Image::with_channels({"R", "G"}, Roi{5, 5, 5, 9});
+    EXPECT_TRUE(img.data_window().empty());
+    EXPECT_EQ(img.npixels(), 0u);
+    EXPECT_EQ(img.sample(0, 5, 5), 0.0f);
+}
+
+TEST(ImageView, InterleavedViewWithNegativeRowStride) {
+    // A bottom-up interleaved RGBA buffer, as some OFX hosts hand out.
+    const int w = 3, h = 2;
+    float buf[w * h * 4];
+    for (int i = 0; i < w * h * 4; ++i) buf[i] = float(i);
+    Roi win{10, 20, 10 + w, 20 + h};
+    // Row y=20 is the last row in memory.
+    ImageView v = ImageView::interleaved(buf + (h - 1) * w * 4, 4, win, -w * 4);
+    EXPECT_EQ(v.at(0, 10, 20), float((h - 1) * w * 4));
+    EXPECT_EQ(v.at(3, 12, 21), float(2 * 4 + 3));
+}
+
+TEST(DeepImage, SampleOffsetsArePrefixSums) {
+    DeepImage d({{"R", PixelType::Half}, {"Z", PixelType::Float}, {"ZBack", PixelType::Float}}, Roi{0, 0, 3, 1},
+                Roi{0, 0, 3, 1});
+    d.set_sample_counts({2, 0, 3});
+    EXPECT_EQ(d.total_samples(), 5u);
+    EXPECT_EQ(d.first_sample(2), 2u);
+    EXPECT_EQ(d.z_channel(), 1);
+    EXPECT_EQ(d.zback_channel(), 2);
+    d.samples(1)[d.first_sample(2) + 2] = 7.0f;
+    EXPECT_EQ(d.samples(1)[4], 7.0f);
+}
+
+TEST(Math, InverseOfAffineMatrix) {
+    Mat44 m;
+    m.m = {{{0, 1, 0, 0}, {-2, 0, 0, 0}, {0, 0, 3, 0}, {5, -6, 7, 1}}};
+    auto inv = inverse(m);
+    ASSERT_TRUE(inv);
+    Vec3 p{1.25, -3.5, 8.0};
+    Vec3 q = inv->transform_point(m.transform_point(p));
+    EXPECT_NEAR(q.x, p.x, 1e-12);
+    EXPECT_NEAR(q.y, p.y, 1e-12);
+    EXPECT_NEAR(q.z, p.z, 1e-12);
+    Mat44 singular;
+    singular.m[2] = {0, 0, 0, 0};
+    EXPECT_FALSE(inverse(singular));
+}
