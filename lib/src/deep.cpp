@@ -46,6 +46,18 @@ void DeepImage::set_channel_type(int c, PixelType t) {
     ch.type = t;
 }
 
+int DeepImage::add_channel(ChannelSpec spec) {
+    const bool is_uint = spec.type == PixelType::UInt;
+    channels_.push_back(std::move(spec));
+    fsamples_.emplace_back();
+    usamples_.emplace_back();
+    if (is_uint)
+        usamples_.back().assign(total_samples(), 0u);
+    else
+        fsamples_.back().assign(total_samples(), 0.0f);
+    return nchannels() - 1;
+}
+
 void DeepImage::set_sample_counts(const std::vector<std::uint32_t>& counts) {
     if (counts.size() != npixels())
         throw std::invalid_argument("DeepImage::set_sample_counts: expected one count per pixel");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstdio>
 #include <stdexcept>
 
 namespace gdof {
@@ -19,8 +20,9 @@ Roi unite(const Roi& a, const Roi& b) {
 }
 
 std::string to_string(const Roi& r) {
-    return "[" + std::to_string(r.x0) + "," + std::to_string(r.x1) + ")x[" + std::to_string(r.y0) + "," +
-           std::to_string(r.y1) + ")";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "[%d,%d)x[%d,%d)", r.x0, r.x1, r.y0, r.y1);
+    return buf;
 }
 
 const char* to_string(PixelType t) {

@@ -24,6 +24,8 @@ public:
     int z_channel() const;       // "Z" (or "*.Z"), -1 if absent
     int zback_channel() const;   // "ZBack", -1 if absent
     void set_channel_type(int c, PixelType t);  // Half <-> Float only
+    // Adds a zero-filled sample channel and returns its index.
+    int add_channel(ChannelSpec spec);
 
     const Roi& data_window() const { return data_; }
     const Roi& display_window() const { return display_; }

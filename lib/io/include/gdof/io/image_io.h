@@ -10,6 +10,21 @@
 //   float; colour is converted to scene-linear on read (see colour.h).
 // - Writes are atomic: a temporary file beside the target, renamed on success;
 //   on any failure no file is left at the target path.
+//
+// Details:
+// - EXR goes through OpenEXR directly (exact attribute names and types, see
+//   lib/io/src/exr_attributes.h for the type strings; unknown attribute types
+//   such as idManifest are kept as raw bytes, type "uint8[N]", text
+//   "exr:<type>"). Channels are ordered R,G,B,A first within each layer.
+// - OpenEXR cannot store an empty data window: such a part is written as one
+//   zero pixel (or zero-sample deep pixel) with the int attribute
+//   "gdof:emptyDataWindow" and read back empty.
+// - The parts of a multipart EXR share one display window (an error otherwise).
+// - Only level 0 of mip/rip-mapped tiled EXRs is read; subsampled channels
+//   are an error. Deep parts allow none/rle/zips/zip (others become zips).
+// - Non-EXR: colour is unpremultiplied/premultiplied around the sRGB
+//   conversion where the format stores straight alpha; formats without a data
+//   window get the display window's pixels (zero outside the data window).
 #pragma once
 
 #include <string>
@@ -32,7 +47,10 @@ struct ReadOptions {
 
 struct WriteOptions {
     // Channel storage type for float channels: "" keeps each channel's type
-    // (Half stays half, Float stays float), else "half" or "float" for all.
+    // (Half stays half, Float stays float), else "half" or "float" for all
+    // (UInt stays uint). For non-EXR formats also "uint8" / "uint16"; ""
+    // there means 8-bit, or 16-bit when oiio:BitsPerSample says 16 (16-bit
+    // PNG in, 16-bit PNG out), float for HDR.
     std::string pixel_type;
     std::string compression;  // "" keeps the image's StorageHints, else OIIO name
     // Output colour space for display-referred formats (PNG/JPEG/8-bit TIFF):
@@ -44,7 +62,8 @@ struct WriteOptions {
 Result<ImageSet> read_image(const std::string& path, const ReadOptions& opts = {});
 Status write_image(const std::string& path, const ImageSet& images, const WriteOptions& opts = {});
 
-// Convenience for single flat images.
+// Convenience for single flat images: read_flat returns the first part (an
+// error if it is deep); write_flat writes without copying the image.
 Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
 Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
 

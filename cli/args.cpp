@@ -1,0 +1,234 @@
+// The command table and argv -> Program.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include "cli.h"
+#include "gdof/io/sequence.h"
+#include "gdof/version.h"
+
+namespace gdof::cli {
+
+namespace {
+
+std::vector<CommandDef> make_table() {
+    std::vector<CommandDef> t;
+    auto add = [&](std::vector<std::string> names, std::string args, Kind kind, std::string group, std::string help,
+                   std::vector<int> file_args = {}) {
+        CommandDef d;
+        d.names = std::move(names);
+        d.args = std::move(args);
+        d.nargs = 0;
+        if (!d.args.empty()) {
+            d.nargs = 1;
+            for (char c : d.args)
+                if (c == ' ') ++d.nargs;
+        }
+        d.kind = kind;
+        d.group = std::move(group);
+        d.help = std::move(help);
+        d.file_args = std::move(file_args);
+        t.push_back(std::move(d));
+    };
+    const std::string G = "General", S = "Sequences", C = "Colour", O = "Input and output", B = "Blur field";
+    add({"--help", "-h"}, "", Kind::Immediate, G, "print this help and exit");
+    add({"--version"}, "", Kind::Immediate, G, "print the version and exit");
+    add({"-v", "--verbose"}, "", Kind::Global, G, "verbose: --info lists every attribute; frame counters");
+    add({"--threads"}, "N", Kind::Global, G, "worker threads (default 0: all cores)");
+    add({"--progress"}, "", Kind::Global, G, "show progress on stderr even when it is not a terminal");
+    add({"--no-progress"}, "", Kind::Global, G, "never show progress");
+    add({"--stats"}, "", Kind::Global, G, "print the time spent per stage on stderr at the end");
+
+    add({"--frames"}, "SPEC", Kind::Global, S,
+        "run once per frame (1-10, 1-10x2, 1,3,7-9, 10-1); #### @ %04d in file names become the frame");
+    add({"--skip-bad-frames"}, "", Kind::Global, S, "report a failing frame and go on with the next (exit 1 at the end)");
+
+    add({"--colorconfig"}, "FILE", Kind::Global, C, "OpenColorIO config (default: $OCIO, else built-in linear/sRGB)");
+    add({"--iscolorspace"}, "NAME", Kind::Modifier, C,
+        "colour space of the next input, overriding its metadata (8-bit PNG/JPEG default: sRGB)");
+    add({"--colorconvert"}, "FROM TO", Kind::Action, C, "convert the colour channels of the top image");
+    add({"--ocolorspace"}, "NAME", Kind::Modifier, C,
+        "colour space of the following outputs (PNG/JPEG default: sRGB; EXR: linear)");
+
+    add({"-i"}, "FILE", Kind::Action, O, "read FILE (same as giving FILE alone)", {0});
+    add({"-o"}, "FILE", Kind::Action, O, "write the top image to FILE (atomically)", {0});
+    add({"-d"}, "TYPE", Kind::Modifier, O, "pixel type of the following outputs: half or float");
+    add({"--compression"}, "NAME", Kind::Modifier, O, "compression of the following outputs (zip, piz, dwaa:45, none ...)");
+    add({"--info"}, "", Kind::Action, O, "describe the top image, or (before any input) each input file");
+    add({"--ch"}, "LIST", Kind::Action, O, "keep/rename channels: R,G,B or Y=blur or A=1.0 (as oiiotool)");
+    add({"--mulc"}, "F[,F...]", Kind::Action, O, "multiply float channels by one factor or one per channel");
+
+    add({"--blurfield"}, "FILE", Kind::Action, B, "load a blur-field JSON (thin_lens, focal_planes, region, ...)", {0});
+    add({"--eval-blur"}, "", Kind::Action, B,
+        "add a float channel 'blur' (CoC radius in output pixels) from P, or Z + camera");
+    add({"--position-channels"}, "NAME", Kind::Modifier, B,
+        "position layer (Pworld) or three channels (px,py,pz) for --eval-blur");
+    add({"--depth-channel"}, "NAME", Kind::Modifier, B, "depth channel for --eval-blur (default Z)");
+    // Camera overrides for --eval-blur: same names as the camera JSON keys.
+    add({"--focal-length-mm"}, "MM", Kind::Modifier, B, "camera focal length in mm (overrides metadata)");
+    add({"--sensor-width-mm"}, "MM", Kind::Modifier, B, "camera sensor width in mm (overrides metadata)");
+    add({"--f-number"}, "N", Kind::Modifier, B, "lens f-number (overrides metadata)");
+    add({"--focus-distance"}, "D", Kind::Modifier, B, "lens focus distance in scene units (overrides metadata)");
+    add({"--scene-unit-mm"}, "MM", Kind::Modifier, B, "millimetres per scene unit (default 1000: metres)");
+    return t;
+}
+
+bool looks_like_flag(const std::string& a) {
+    if (a.size() < 2 || a[0] != '-') return false;
+    // A negative number is not a flag (frame ranges, values).
+    char* end = nullptr;
+    errno = 0;
+    std::strtod(a.c_str(), &end);
+    return !(end && *end == '\0');
+}
+
+int parse_int(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    errno = 0;
+    long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE || n < -1000000 || n > 1000000)
+        usage_error(flag + ": expected an integer, got '" + v + "'");
+    return int(n);
+}
+
+// Checks the order of the steps before any work is done: operations need an
+// image on the stack, --iscolorspace needs a following input.
+void validate_structure(const Program& p) {
+    int depth = 0;
+    bool pending_iscs = false;
+    bool any_action = false;
+    for (const Step& s : p.steps) {
+        if (s.is_input()) {
+            ++depth;
+            pending_iscs = false;
+            any_action = true;
+            continue;
+        }
+        const std::string& n = s.name();
+        if (n == "-o" || n == "--colorconvert" || n == "--eval-blur") {
+            if (depth == 0)
+                usage_error(s.flag + ": no image on the stack (give an input file before " + s.flag + ")");
+            any_action = true;
+        }
+        if (n == "--info" || n == "--blurfield") any_action = true;
+        if (n == "--iscolorspace") pending_iscs = true;
+    }
+    if (pending_iscs) usage_error("--iscolorspace: no input file follows it");
+    if (!any_action) usage_error("nothing to do: give an input file or a command");
+}
+
+}  // namespace
+
+double parse_double(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    errno = 0;
+    double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || errno == ERANGE) usage_error(flag + ": expected a number, got '" + v + "'");
+    return d;
+}
+
+const std::vector<CommandDef>& command_table() {
+    static const std::vector<CommandDef> table = make_table();
+    return table;
+}
+
+const CommandDef* find_command(const std::string& name) {
+    for (const CommandDef& d : command_table())
+        for (const std::string& n : d.names)
+            if (n == name) return &d;
+    return nullptr;
+}
+
+const std::string& Step::name() const {
+    static const std::string input = "input";
+    return def ? def->names.front() : input;
+}
+
+std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exit_code) {
+    Program p;
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+        const std::string& a = argv[i];
+        if (!looks_like_flag(a)) {
+            if (a.empty()) usage_error("empty file name argument");
+            if (a == "-") usage_error("'-' (standard input) is not supported; give a file name");
+            Step s;
+            s.flag = a;
+            s.args = {a};
+            p.steps.push_back(std::move(s));
+            continue;
+        }
+        // --flag=value is accepted for one-argument flags.
+        std::string flag = a, inline_value;
+        bool has_inline = false;
+        if (auto eq = a.find('='); eq != std::string::npos && a.rfind("--", 0) == 0) {
+            flag = a.substr(0, eq);
+            inline_value = a.substr(eq + 1);
+            has_inline = true;
+        }
+        const CommandDef* def = find_command(flag);
+        if (!def) usage_error("unknown flag '" + flag + "' (see gdof --help)");
+        Step s;
+        s.def = def;
+        s.flag = flag;
+        if (has_inline) {
+            if (def->nargs != 1) usage_error(flag + " does not take '=VALUE'");
+            s.args.push_back(inline_value);
+        } else {
+            for (int k = 0; k < def->nargs; ++k) {
+                if (i + 1 >= argv.size())
+                    usage_error(flag + ": missing argument " + std::to_string(k + 1) + " (" + flag + " " + def->args + ")");
+                const std::string& v = argv[++i];
+                // A flag where a value was expected is almost always a mistake,
+                // except a negative number (handled by looks_like_flag).
+                if (looks_like_flag(v) && find_command(v))
+                    usage_error(flag + ": missing argument (" + flag + " " + def->args + "), got flag '" + v + "'");
+                s.args.push_back(v);
+            }
+        }
+        const std::string& n = def->names.front();
+        if (def->kind == Kind::Immediate) {
+            if (n == "--help") std::cout << usage_text();
+            if (n == "--version") std::cout << "gdof " << gdof::version() << "\n";
+            std::cout.flush();
+            exit_code = kOk;
+            return std::nullopt;
+        }
+        if (def->kind == Kind::Global) {
+            GlobalOptions& g = p.global;
+            if (n == "-v") g.verbose = true;
+            else if (n == "--threads") {
+                g.threads = parse_int(flag, s.args[0]);
+                if (g.threads < 0) usage_error("--threads: expected 0 (all cores) or more, got '" + s.args[0] + "'");
+            } else if (n == "--progress") g.progress = true, g.no_progress = false;
+            else if (n == "--no-progress") g.no_progress = true, g.progress = false;
+            else if (n == "--stats") g.stats = true;
+            else if (n == "--frames") {
+                auto r = io::parse_frame_range(s.args[0]);
+                if (!r) usage_error("--frames '" + s.args[0] + "': " + r.message());
+                g.frames = s.args[0];
+            } else if (n == "--skip-bad-frames") g.skip_bad_frames = true;
+            else if (n == "--colorconfig") g.colorconfig = s.args[0];
+            continue;
+        }
+        // Validate values that can be checked without any file.
+        if (n == "-d") {
+            if (s.args[0] != "half" && s.args[0] != "float")
+                usage_error("-d: unknown pixel type '" + s.args[0] + "' (expected half or float)");
+        } else if (n == "--focal-length-mm" || n == "--sensor-width-mm" || n == "--f-number" ||
+                   n == "--focus-distance" || n == "--scene-unit-mm") {
+            double v = parse_double(flag, s.args[0]);
+            if (!(v > 0) || !std::isfinite(v)) usage_error(flag + ": expected a positive number, got '" + s.args[0] + "'");
+        } else if (n == "-i") {
+            s.def = nullptr;  // an input like any bare file name
+        }
+        for (const std::string& v : s.args)
+            if (v.empty() && n != "--compression") usage_error(flag + ": empty argument");
+        p.steps.push_back(std::move(s));
+    }
+    validate_structure(p);
+    return p;
+}
+
+}  // namespace gdof::cli

@@ -1,0 +1,70 @@
+// Runs one frame's steps on the image stack.
+#include "cli.h"
+#include "gdof/io/sequence.h"
+
+namespace gdof::cli {
+
+void check(const Status& s, const std::string& context) {
+    if (s) return;
+    if (interrupted()) throw CliError(kInterrupted, "interrupted");
+    runtime_error(context.empty() ? s.message() : context + ": " + s.message());
+}
+
+StackEntry& Frame::top(const std::string& flag) {
+    if (stack.empty()) usage_error(flag + ": no image on the stack (give an input file before " + flag + ")");
+    return stack.back();
+}
+
+namespace {
+
+std::string substitute(const std::string& arg, std::optional<int> frame) {
+    if (!frame || !io::has_frame_pattern(arg)) return arg;
+    auto r = io::expand_frame_pattern(arg, *frame);
+    if (!r) runtime_error("'" + arg + "': " + r.message());
+    return r.value();
+}
+
+std::string key_of(const std::string& flag) {
+    std::string k = flag.substr(flag.find_first_not_of('-'));
+    for (char& c : k)
+        if (c == '-') c = '_';
+    return k;
+}
+
+}  // namespace
+
+void run_steps(Session& session, const std::vector<Step>& steps, std::optional<int> frame) {
+    Frame f;
+    f.session = &session;
+    f.frame = frame;
+    for (const Step& step : steps) {
+        check_interrupted();
+        std::vector<std::string> args = step.args;
+        if (step.is_input()) {
+            do_input(f, substitute(args[0], frame));
+            continue;
+        }
+        for (int k : step.def->file_args) args[std::size_t(k)] = substitute(args[std::size_t(k)], frame);
+        const std::string& n = step.name();
+        if (n == "-o") do_output(f, args[0]);
+        else if (n == "--info") do_info(f);
+        else if (n == "--ch") do_ch(f, args[0]);
+        else if (n == "--mulc") do_mulc(f, args[0]);
+        else if (n == "--colorconvert") do_colorconvert(f, args[0], args[1]);
+        else if (n == "--iscolorspace") f.next_input_colorspace = args[0];
+        else if (n == "--ocolorspace") f.output_colorspace = args[0];
+        else if (n == "-d") f.output_pixel_type = args[0];
+        else if (n == "--compression") f.output_compression = args[0];
+        else if (n == "--blurfield") do_blurfield(f, args[0]);
+        else if (n == "--eval-blur") do_eval_blur(f);
+        else if (n == "--position-channels") f.position_channels = args[0];
+        else if (n == "--depth-channel") f.depth_channel = args[0];
+        else if (n == "--focal-length-mm" || n == "--sensor-width-mm" || n == "--f-number" ||
+                 n == "--focus-distance" || n == "--scene-unit-mm")
+            f.camera_overrides[key_of(n)] = parse_double(step.flag, args[0]);
+        else
+            runtime_error("internal: no handler for " + n);
+    }
+}
+
+}  // namespace gdof::cli

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Regenerates the pictures in the README (docs/images/) from the bundled
+# example scene. Needs a build (bash .ci/build, or examples/quickstart.sh).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${GDOF_BUILD_DIR:-$root/build}"
+gdof="$build/cli/gdof"
+img="$root/docs/images"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$img"
+"$build/examples/gdof_example_scene" --size 640x360 -o "$tmp/scene.exr"
+"$gdof" "$tmp/scene.exr" --ch R,G,B -o "$img/example_scene.png"
+# The blur field of examples/scene/two_planes.json on the scene: white = 10 px.
+"$gdof" "$tmp/scene.exr" --blurfield "$root/examples/scene/two_planes.json" --eval-blur \
+        --ch R=blur,G=blur,B=blur --mulc 0.1 --ocolorspace linear -o "$img/example_blur_two_planes.png"
+"$gdof" "$tmp/scene.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --eval-blur \
+        --ch R=blur,G=blur,B=blur --mulc 0.1 --ocolorspace linear -o "$img/example_blur_sphere.png"
+echo "wrote $(ls "$img")" >&2

@@ -1,0 +1,52 @@
+#include "gdof/diffusion.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace gdof {
+
+const char* to_string(DiffusionSolver s) { return s == DiffusionSolver::Explicit ? "explicit" : "adi"; }
+
+Result<DiffusionSolver> parse_diffusion_solver(const char* name) {
+    std::string n = name ? name : "";
+    if (n == "explicit") return DiffusionSolver::Explicit;
+    if (n == "adi") return DiffusionSolver::Adi;
+    return Status::error("unknown diffusion solver '" + n + "' (expected 'adi' or 'explicit')");
+}
+
+int explicit_iterations(double max_radius_px, const DiffusionSettings& settings) {
+    // The 9-point stencil's weights sum to 10/3; stability needs dt * D * 10/3 <= 1.
+    double d = diffusivity_from_radius(max_radius_px);
+    return std::max(1, int(std::ceil(settings.explicit_safety * d * 10.0 / 3.0)));
+}
+
+Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
+                      const DiffusionSettings& settings, const Exec& exec) {
+    if (width < 0 || height < 0) return Status::error("diffusion: negative image size");
+    const std::size_t n = std::size_t(width) * std::size_t(height);
+    if (n == 0 || planes.empty()) return Status::ok();
+    if (settings.adi_steps < 0 || settings.adi_steps > 1000)
+        return Status::error("diffusion: adi_steps must be in 0..1000 (0: automatic), got " + std::to_string(settings.adi_steps));
+    if (!(settings.explicit_safety >= 1.0) || settings.explicit_safety > 100.0)
+        return Status::error("diffusion: explicit_safety must be in 1..100");
+    std::vector<float> d(n);
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        float r = radius[i];
+        if (!std::isfinite(r) || r < 0.0f || r > settings.max_radius) {
+            int x = int(i % std::size_t(width)), y = int(i / std::size_t(width));
+            return Status::error("diffusion: blur radius at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                 " of the layer) is " + std::to_string(r) + "; expected a finite value in 0.." +
+                                 std::to_string(settings.max_radius));
+        }
+        d[i] = float(diffusivity_from_radius(r));
+        any = any || r > 0.0f;
+    }
+    if (!any) return Status::ok();  // identity, bit for bit
+    return settings.solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
+                                                        : diffuse_adi(planes, width, height, d.data(), settings, exec);
+}
+
+}  // namespace gdof

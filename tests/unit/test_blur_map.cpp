@@ -1,0 +1,154 @@
+// The blur field over whole images: from P, from Z + camera, per deep sample.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gdof/blur_map.h"
+
+using namespace gdof;
+
+namespace {
+
+Camera test_camera() {
+    CameraDesc d;
+    d.position = {0.5, 1.0, -2.0};
+    d.look_at = {0.0, 0.8, 5.0};
+    d.focal_length_mm = 40;
+    d.display_window = {0, 0, 48, 32};
+    auto c = Camera::create(d);
+    EXPECT_TRUE(c) << c.message();
+    return c.value();
+}
+
+// An image with Z and P for a slanted surface, data window offset from the display window.
+Image test_image(const Camera& cam) {
+    Image img = Image::with_channels({"R", "Z", "P.x", "P.y", "P.z"}, Roi{-4, 2, 40, 30});
+    img.set_display_window(cam.display_window());
+    for (int y = 2; y < 30; ++y)
+        for (int x = -4; x < 40; ++x) {
+            double depth = 1.0 + 0.3 * x + 0.1 * y + (x < 0 ? 50.0 : 0.0);
+            Vec3 p = cam.unproject(x + 0.5, y + 0.5, depth);
+            img.at(1, x, y) = float(depth);
+            img.at(2, x, y) = float(p.x);
+            img.at(3, x, y) = float(p.y);
+            img.at(4, x, y) = float(p.z);
+        }
+    cam.to_metadata(img.metadata);
+    return img;
+}
+
+}  // namespace
+
+TEST(blur_map, PositionsAndDepthGiveTheThinLensCoC) {
+    const Camera cam = test_camera();
+    const Image img = test_image(cam);
+    ThinLens lens;
+    lens.focal_length_mm = 40;
+    lens.f_number = 2.0;
+    lens.focus_distance = 4.0;
+    lens.image_width_px = 48;
+    auto field = BlurField::from_thin_lens(lens);
+    ASSERT_TRUE(field) << field.message();
+    std::vector<float> from_p(img.npixels()), from_z(img.npixels());
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, from_p.data()));
+    Image z_only = img;  // same surface without the position pass
+    z_only.remove_channel(4);
+    z_only.remove_channel(3);
+    z_only.remove_channel(2);
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, z_only, {}, from_z.data()));
+    for (int y = 2; y < 30; ++y)
+        for (int x = -4; x < 40; ++x) {
+            const std::size_t i = img.offset(x, y);
+            const double expected = lens.coc_radius_px(img.at(1, x, y));
+            EXPECT_NEAR(from_z[i], expected, 1e-4 * (1 + expected)) << x << "," << y;
+            EXPECT_NEAR(from_p[i], expected, 1e-3 * (1 + expected)) << x << "," << y;
+        }
+}
+
+TEST(blur_map, ThreadCountDoesNotChangeTheResult) {
+    const Camera cam = test_camera();
+    const Image img = test_image(cam);
+    auto field = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [3, 9], "max_blur": 8, "slope": 4}})");
+    ASSERT_TRUE(field) << field.message();
+    std::vector<float> a(img.npixels()), b(img.npixels());
+    Exec one, many;
+    one.nthreads = 1;
+    many.nthreads = 4;
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, a.data(), one));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, b.data(), many));
+    EXPECT_EQ(a, b);
+}
+
+TEST(blur_map, DeepSamplesMatchTheFlatEvaluationAtTheirDepths) {
+    const Camera cam = test_camera();
+    const Image img = test_image(cam);
+    auto field = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [3, 9], "max_blur": 8, "slope": 4}})");
+    ASSERT_TRUE(field);
+    DeepImage deep({{"A", PixelType::Half}, {"Z", PixelType::Float}}, img.data_window(), img.display_window());
+    std::vector<std::uint32_t> counts(deep.npixels());
+    for (std::size_t i = 0; i < counts.size(); ++i) counts[i] = std::uint32_t(i % 3);  // 0, 1 or 2 samples
+    deep.set_sample_counts(counts);
+    for (int y = 2; y < 30; ++y)
+        for (int x = -4; x < 40; ++x) {
+            const std::size_t p = deep.pixel_index(x, y);
+            for (std::uint32_t k = 0; k < deep.sample_count(p); ++k)
+                deep.samples(1)[deep.first_sample(p) + k] = img.at(1, x, y) * float(1 + k);
+        }
+    std::vector<float> out(deep.total_samples());
+    ASSERT_TRUE(evaluate_blur_deep(*field, cam, deep, -1, out.data()));
+    for (int y = 2; y < 30; ++y)
+        for (int x = -4; x < 40; ++x) {
+            const std::size_t p = deep.pixel_index(x, y);
+            for (std::uint32_t k = 0; k < deep.sample_count(p); ++k) {
+                const std::size_t s = deep.first_sample(p) + k;
+                EXPECT_FLOAT_EQ(out[s], field->evaluate_pixel(cam, x + 0.5, y + 0.5, deep.samples(1)[s]));
+            }
+        }
+}
+
+TEST(blur_map, NamedChannelsThatAreMissingAreErrors) {
+    const Camera cam = test_camera();
+    Image img = test_image(cam);
+    BlurField zero;
+    std::vector<float> out(img.npixels());
+    Status st = evaluate_blur_map(zero, cam, img, {"Pw", ""}, out.data());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("Pw.x"), std::string::npos) << st.message();
+    st = evaluate_blur_map(zero, cam, img, {"P.x,P.y,nope", ""}, out.data());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("'nope'"), std::string::npos) << st.message();
+    Image flat = Image::with_channels({"R", "G", "B"}, img.data_window());
+    st = evaluate_blur_map(zero, cam, flat, {}, out.data());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("'Z'"), std::string::npos) << st.message();
+    st = evaluate_blur_map(zero, cam, flat, {"", "depth"}, out.data());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("'depth'"), std::string::npos) << st.message();
+}
+
+TEST(blur_map, ResolveCameraAppliesOverridesAndNamesWhatIsMissing) {
+    Metadata none;
+    auto r = resolve_camera(none, Roi{0, 0, 10, 10});
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("worldToCamera"), std::string::npos);
+    LensOverrides ov;
+    ov.focal_length_mm = 35;
+    ov.f_number = 4;
+    ov.focus_distance = 3;
+    ov.sensor_width_mm = 24;
+    auto c = resolve_camera(none, Roi{0, 0, 10, 10}, ov);
+    ASSERT_TRUE(c) << c.message();
+    auto tl = c->thin_lens();
+    ASSERT_TRUE(tl) << tl.message();
+    EXPECT_DOUBLE_EQ(tl->f_number, 4);
+    EXPECT_DOUBLE_EQ(tl->sensor_width_mm, 24);
+    // Overrides win over the file's lens attributes.
+    Metadata md;
+    c->to_metadata(md);
+    LensOverrides f8;
+    f8.f_number = 8;
+    auto c2 = resolve_camera(md, Roi{0, 0, 10, 10}, f8);
+    ASSERT_TRUE(c2);
+    EXPECT_DOUBLE_EQ(c2->thin_lens()->f_number, 8);
+    EXPECT_DOUBLE_EQ(c2->thin_lens()->focus_distance, 3);
+}

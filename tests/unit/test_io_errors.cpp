@@ -1,0 +1,237 @@
+// Bad input and failed writes: errors that name the file, never a crash, and
+// never a half-written or clobbered output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "gdof/io/image_io.h"
+#include "io_test_helpers.h"
+#include "test_support.h"
+
+using namespace gdof;
+using namespace gdof::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_bytes(const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+void write_bytes(const std::string& p, const std::string& b) {
+    std::ofstream f(p, std::ios::binary | std::ios::trunc);
+    f.write(b.data(), std::streamsize(b.size()));
+}
+
+// Flat zip scanline, flat piz tiled and deep parts, so cuts and flips hit
+// headers, offset tables, sample counts and pixel data.
+ImageSet sample_set() {
+    ImageSet set;
+    Image a = Image::with_channels({"R", "G", "B", "A"}, {-4, -2, 60, 40});
+    a.set_display_window({0, 0, 64, 40});
+    for (int c = 0; c < 4; ++c)
+        for (std::size_t i = 0; i < a.npixels(); ++i) a.plane(c)[i] = float((i * 13 + std::size_t(c)) % 97) / 7.0f;
+    a.name = "rgba";
+    Image b = a;
+    b.name = "tiled";
+    b.storage.tile_width = 16;
+    b.storage.tile_height = 16;
+    b.storage.compression = "piz";
+    DeepImage d = make_deep({0, 0, 30, 20}, {0, 0, 64, 40}, false);
+    d.name = "deep";
+    set.parts = {a, b, d};
+    return set;
+}
+
+std::vector<std::string> temp_files(const fs::path& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find("gdof-tmp") != std::string::npos) out.push_back(e.path().string());
+    return out;
+}
+
+}  // namespace
+
+TEST(io_errors, MissingFile) {
+    auto r = io::read_image("/nonexistent/folder/shot.0001.exr");
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("'/nonexistent/folder/shot.0001.exr'"), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("not found"), std::string::npos) << r.message();
+    auto f = io::read_flat("missing.png");
+    ASSERT_FALSE(f);
+    EXPECT_NE(f.message().find("missing.png"), std::string::npos);
+}
+
+TEST(io_errors, UnknownFormatAndGarbage) {
+    ScratchDir dir;
+    const std::string txt = dir.file("notes.xyz");
+    write_bytes(txt, "this is not an image at all");
+    auto r = io::read_image(txt);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("notes.xyz"), std::string::npos) << r.message();
+    // Garbage with an .exr extension.
+    const std::string fake = dir.file("fake.exr");
+    write_bytes(fake, "not an exr");
+    auto e = io::read_image(fake);
+    ASSERT_FALSE(e);
+    EXPECT_NE(e.message().find("fake.exr"), std::string::npos) << e.message();
+    EXPECT_NE(e.message().find("corrupt"), std::string::npos) << e.message();
+    // A folder is not an image.
+    auto d = io::read_image(dir.path().string());
+    EXPECT_FALSE(d);
+}
+
+TEST(io_errors, TruncatedExrAtManyCutPoints) {
+    ScratchDir dir;
+    const std::string good = dir.file("good.exr");
+    { Status ws = io::write_image(good, sample_set()); ASSERT_TRUE(ws) << ws.message(); }
+    const std::string bytes = read_bytes(good);
+    ASSERT_GT(bytes.size(), 2000u);
+    ASSERT_TRUE(io::read_image(good));
+    const std::string cut = dir.file("shot.0001.exr");
+    std::vector<std::size_t> sizes = {0, 1, 3, 4, 8, 50, 200, 400, 1000, bytes.size() / 3, bytes.size() / 2,
+                                      bytes.size() * 3 / 4, bytes.size() - 100, bytes.size() - 1};
+    for (std::size_t n : sizes) {
+        write_bytes(cut, bytes.substr(0, n));
+        auto r = io::read_image(cut);
+        EXPECT_FALSE(r) << "truncated at " << n << " of " << bytes.size() << " bytes read without error";
+        if (!r) {
+            EXPECT_NE(r.message().find("'" + cut + "'"), std::string::npos) << r.message();
+            EXPECT_NE(r.message().find("truncated or corrupt"), std::string::npos) << r.message();
+        }
+    }
+}
+
+TEST(io_errors, ByteCorruptedExrNeverCrashes) {
+    ScratchDir dir;
+    const std::string good = dir.file("good.exr");
+    { Status ws = io::write_image(good, sample_set()); ASSERT_TRUE(ws) << ws.message(); }
+    const std::string bytes = read_bytes(good);
+    const std::string bad = dir.file("corrupt.exr");
+    // A broken magic number or version field is always an error.
+    {
+        std::string b = bytes;
+        b[1] ^= 0x5a;
+        write_bytes(bad, b);
+        auto r = io::read_image(bad);
+        ASSERT_FALSE(r);
+        EXPECT_NE(r.message().find("corrupt.exr"), std::string::npos);
+    }
+    {
+        std::string b = bytes;
+        b[4] = char(0x7f);  // unknown file version
+        write_bytes(bad, b);
+        auto r = io::read_image(bad);
+        ASSERT_FALSE(r);
+        EXPECT_NE(r.message().find("corrupt.exr"), std::string::npos) << r.message();
+    }
+    // Random flips anywhere: either still readable or an error naming the file.
+    std::mt19937 rng(1234);
+    int errors = 0;
+    const int trials = 300;
+    for (int t = 0; t < trials; ++t) {
+        std::string b = bytes;
+        const int nflips = 1 + int(rng() % 8);
+        for (int k = 0; k < nflips; ++k) {
+            // Half of the trials aim at the header, where most structure is.
+            std::size_t pos = (t % 2) ? rng() % b.size() : rng() % std::min<std::size_t>(b.size(), 1500);
+            b[pos] = char(b[pos] ^ char(1 + rng() % 255));
+        }
+        write_bytes(bad, b);
+        auto r = io::read_image(bad);
+        if (!r) {
+            ++errors;
+            EXPECT_NE(r.message().find("corrupt.exr"), std::string::npos) << r.message();
+        }
+    }
+    EXPECT_GT(errors, trials / 10);
+}
+
+TEST(io_errors, WriteToMissingFolder) {
+    ScratchDir dir;
+    const std::string target = dir.file("no/such/folder/out.exr");
+    Status st = io::write_image(target, sample_set());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("out.exr"), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("no/such/folder"), std::string::npos) << st.message();
+    EXPECT_FALSE(fs::exists(target));
+    Status png = io::write_flat(dir.file("missing/out.png"), Image::with_channels({"R", "G", "B"}, {0, 0, 4, 4}));
+    EXPECT_FALSE(png);
+}
+
+TEST(io_errors, FailedWritesLeaveTargetUntouchedAndNoTempFiles) {
+    ScratchDir dir;
+    const std::string target = dir.file("keep.exr");
+    ASSERT_TRUE(io::write_image(target, sample_set()));
+    const std::string before = read_bytes(target);
+    const auto mtime = fs::last_write_time(target);
+
+    // 1. Duplicate part names.
+    ImageSet dup = sample_set();
+    dup.flat(1).name = "rgba";
+    Status s1 = io::write_image(target, dup);
+    EXPECT_FALSE(s1);
+    EXPECT_NE(s1.message().find("keep.exr"), std::string::npos) << s1.message();
+    EXPECT_NE(s1.message().find("rgba"), std::string::npos) << s1.message();
+    // 2. Unknown pixel type.
+    io::WriteOptions wo;
+    wo.pixel_type = "int13";
+    EXPECT_FALSE(io::write_image(target, sample_set(), wo));
+    // 3. Duplicate channel names inside a part.
+    ImageSet dupch = sample_set();
+    dupch.flat(0).rename_channel(1, "R");
+    Status s3 = io::write_image(target, dupch);
+    EXPECT_FALSE(s3);
+    EXPECT_NE(s3.message().find("'R'"), std::string::npos) << s3.message();
+    // 4. A failure inside OpenEXR after the temporary file exists: a part
+    //    whose tile size cannot be encoded.
+    ImageSet huge_tiles = sample_set();
+    huge_tiles.flat(1).storage.tile_width = 1 << 30;
+    huge_tiles.flat(1).storage.tile_height = 1 << 30;
+    (void)io::write_image(target, huge_tiles);
+    // 5. Parts with different display windows (EXR parts share one).
+    ImageSet disp = sample_set();
+    disp.deep(2).set_display_window({0, 0, 10, 10});
+    Status s4 = io::write_image(target, disp);
+    EXPECT_FALSE(s4);
+    EXPECT_NE(s4.message().find("display window"), std::string::npos) << s4.message();
+    // 6. Non-EXR targets with a deep or multi-part set.
+    const std::string png = dir.file("keep.png");
+    write_bytes(png, "previous");
+    Status s5 = io::write_image(png, sample_set());
+    ASSERT_FALSE(s5);
+    EXPECT_NE(s5.message().find("keep.png"), std::string::npos) << s5.message();
+    ImageSet deep_only;
+    deep_only.parts.push_back(sample_set().parts[2]);
+    Status s6 = io::write_image(png, deep_only);
+    ASSERT_FALSE(s6);
+    EXPECT_NE(s6.message().find("deep"), std::string::npos) << s6.message();
+    EXPECT_EQ(read_bytes(png), "previous");
+    // 7. Unknown output format.
+    Status s7 = io::write_flat(dir.file("out.unknownformat"), sample_set().flat(0));
+    EXPECT_FALSE(s7);
+    EXPECT_NE(s7.message().find("out.unknownformat"), std::string::npos) << s7.message();
+    EXPECT_FALSE(fs::exists(dir.file("out.unknownformat")));
+
+    EXPECT_EQ(read_bytes(target), before);
+    EXPECT_EQ(fs::last_write_time(target), mtime);
+    EXPECT_TRUE(temp_files(dir.path()).empty()) << temp_files(dir.path()).front();
+}
+
+TEST(io_errors, SuccessfulWriteReplacesTargetAtomically) {
+    ScratchDir dir;
+    const std::string target = dir.file("out.exr");
+    write_bytes(target, "old contents");
+    ASSERT_TRUE(io::write_image(target, sample_set()));
+    auto r = io::read_image(target);
+    ASSERT_TRUE(r) << r.message();
+    EXPECT_EQ(r->size(), 3u);
+    EXPECT_TRUE(temp_files(dir.path()).empty());
+    // The temporary name keeps the extension (OIIO picks formats by it) and is hidden.
+    Image img = Image::with_channels({"R", "G", "B"}, {0, 0, 3, 3});
+    ASSERT_TRUE(io::write_flat(dir.file("p.png"), img));
+    ASSERT_TRUE(io::write_flat(dir.file("p.tif"), img));
+    EXPECT_TRUE(temp_files(dir.path()).empty());
+}
