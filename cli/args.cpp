@@ -66,6 +66,11 @@ std::vector<CommandDef> make_table() {
     add({"--position-channels"}, "NAME", Kind::Modifier, B,
         "position layer (Pworld) or three channels (px,py,pz) for --eval-blur");
     add({"--depth-channel"}, "NAME", Kind::Modifier, B, "depth channel for --eval-blur (default Z)");
+    add({"--depth-encoding"}, "NAME", Kind::Modifier, B,
+        "depth values are metric (default), inverse, scaled (e.g. uint16 counts), near_far_linear, near_far_inverse");
+    add({"--depth-scale"}, "S", Kind::Modifier, B, "depth = value * S (metric, scaled) or S / value (inverse)");
+    add({"--depth-near"}, "D", Kind::Modifier, B, "near depth for near_far_* encodings (scene units)");
+    add({"--depth-far"}, "D", Kind::Modifier, B, "far depth for near_far_* encodings (scene units)");
     // Camera overrides for --eval-blur: same names as the camera JSON keys.
     add({"--focal-length-mm"}, "MM", Kind::Modifier, B, "camera focal length in mm (overrides metadata)");
     add({"--sensor-width-mm"}, "MM", Kind::Modifier, B, "camera sensor width in mm (overrides metadata)");

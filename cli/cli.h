@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/camera.h"
 #include "gdof/exec.h"
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
@@ -209,6 +210,7 @@ struct Frame {
     // Eval-blur modifiers (names as the camera / blur-field JSON keys).
     std::string position_channels;
     std::string depth_channel;
+    DepthDecode depth_decode;  // --depth-encoding / --depth-scale / --depth-near / --depth-far
     std::map<std::string, double> camera_overrides;  // "focal_length_mm" -> 35
     std::shared_ptr<BlurState> blur;
 

@@ -150,7 +150,7 @@ void do_eval_blur(Frame& f) {
         Image& img = top.images.flat(part);
         const std::string pwhere =
             top.images.size() > 1 ? where + " part " + std::to_string(part) + (img.name.empty() ? "" : " '" + img.name + "'") : where;
-        PositionSource source{f.position_channels, f.depth_channel};
+        PositionSource source{f.position_channels, f.depth_channel, f.depth_decode};
         // Flag-named channels that are missing are errors; an image with
         // neither P nor Z is skipped (other parts may have them).
         auto pos = find_position_channels(img, source.position_channels);

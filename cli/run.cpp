@@ -59,6 +59,13 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         else if (n == "--eval-blur") do_eval_blur(f);
         else if (n == "--position-channels") f.position_channels = args[0];
         else if (n == "--depth-channel") f.depth_channel = args[0];
+        else if (n == "--depth-encoding") {
+            auto e = parse_depth_encoding(args[0]);
+            if (!e) usage_error(step.flag + ": " + e.message());
+            f.depth_decode.encoding = e.value();
+        } else if (n == "--depth-scale") f.depth_decode.scale = parse_double(step.flag, args[0]);
+        else if (n == "--depth-near") f.depth_decode.near = parse_double(step.flag, args[0]);
+        else if (n == "--depth-far") f.depth_decode.far = parse_double(step.flag, args[0]);
         else if (n == "--focal-length-mm" || n == "--sensor-width-mm" || n == "--f-number" ||
                  n == "--focus-distance" || n == "--scene-unit-mm")
             f.camera_overrides[key_of(n)] = parse_double(step.flag, args[0]);

@@ -108,6 +108,9 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
                                  "and no depth channel '" +
                                  (source.depth_channel.empty() ? std::string("Z") : source.depth_channel) + "'");
     }
+    if (zc >= 0) {
+        if (Status st = source.depth_decode.validate(); !st) return st.prefix("depth channel '" + img.channel(zc).name + "'");
+    }
     const Roi win = img.data_window();
     const int width = win.width();
     if (win.empty()) return Status::ok();
@@ -127,7 +130,8 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
         std::vector<PixelDepth> samples(static_cast<std::size_t>(width));
         const double yc = double(win.y0 + row) + 0.5;
         for (int i = 0; i < width; ++i)
-            samples[std::size_t(i)] = PixelDepth{double(win.x0 + i) + 0.5, yc, double(zp[off + std::size_t(i)])};
+            samples[std::size_t(i)] =
+                PixelDepth{double(win.x0 + i) + 0.5, yc, decode_depth(double(zp[off + std::size_t(i)]), source.depth_decode)};
         return field.evaluate(camera, std::span<const PixelDepth>(samples), dst);
     });
 }

@@ -2,7 +2,10 @@
 
 #include <atomic>
 
+#include <algorithm>
+
 #include <tbb/blocked_range.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -24,7 +27,9 @@ bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)
         // never depend on chunk boundaries.
         for (long b = 0; b < n && !stop; b += grain) body(tbb::blocked_range<long>(b, std::min(n, b + grain)));
     } else {
-        tbb::task_arena arena(exec.nthreads > 0 ? exec.nthreads : tbb::task_arena::automatic);
+        // More threads than cores only adds overhead (and TBB warns); results never depend on it.
+        const int cores = tbb::info::default_concurrency();
+        tbb::task_arena arena(exec.nthreads > 0 ? std::min(exec.nthreads, cores) : tbb::task_arena::automatic);
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<long>(0, n, std::size_t(grain)), body); });
     }
     return !stop && !exec.is_cancelled();

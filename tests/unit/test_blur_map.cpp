@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
 
 #include "gdof/blur_map.h"
 
@@ -37,6 +38,13 @@ Image test_image(const Camera& cam) {
     return img;
 }
 
+PositionSource source(const std::string& position, const std::string& depth) {
+    PositionSource s;
+    s.position_channels = position;
+    s.depth_channel = depth;
+    return s;
+}
+
 }  // namespace
 
 TEST(blur_map, PositionsAndDepthGiveTheThinLensCoC) {
@@ -63,6 +71,34 @@ TEST(blur_map, PositionsAndDepthGiveTheThinLensCoC) {
             EXPECT_NEAR(from_z[i], expected, 1e-4 * (1 + expected)) << x << "," << y;
             EXPECT_NEAR(from_p[i], expected, 1e-3 * (1 + expected)) << x << "," << y;
         }
+}
+
+TEST(blur_map, InverseDepthIsDecodedBeforeEvaluation) {
+    const Camera cam = test_camera();
+    Image img = test_image(cam);
+    img.remove_channel(4);
+    img.remove_channel(3);
+    img.remove_channel(2);
+    for (float& z : std::span<float>(img.plane(1), img.npixels())) z = 2.0f / z;  // stored as 2/Z
+    ThinLens lens;
+    lens.focal_length_mm = 40;
+    lens.focus_distance = 3.0;
+    lens.image_width_px = 48;
+    auto field = BlurField::from_thin_lens(lens);
+    ASSERT_TRUE(field);
+    PositionSource src;
+    src.depth_decode.encoding = DepthEncoding::Inverse;
+    src.depth_decode.scale = 2.0;
+    std::vector<float> out(img.npixels());
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, src, out.data()));
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const double expected = lens.coc_radius_px(2.0 / double(img.plane(1)[i]));
+        EXPECT_NEAR(out[i], expected, 1e-4 * (1 + expected));
+    }
+    src.depth_decode.encoding = DepthEncoding::NearFarLinear;  // near/far not given
+    Status st = evaluate_blur_map(*field, cam, img, src, out.data());
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("'Z'"), std::string::npos) << st.message();
 }
 
 TEST(blur_map, ThreadCountDoesNotChangeTheResult) {
@@ -111,17 +147,17 @@ TEST(blur_map, NamedChannelsThatAreMissingAreErrors) {
     Image img = test_image(cam);
     BlurField zero;
     std::vector<float> out(img.npixels());
-    Status st = evaluate_blur_map(zero, cam, img, {"Pw", ""}, out.data());
+    Status st = evaluate_blur_map(zero, cam, img, source("Pw", ""), out.data());
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("Pw.x"), std::string::npos) << st.message();
-    st = evaluate_blur_map(zero, cam, img, {"P.x,P.y,nope", ""}, out.data());
+    st = evaluate_blur_map(zero, cam, img, source("P.x,P.y,nope", ""), out.data());
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'nope'"), std::string::npos) << st.message();
     Image flat = Image::with_channels({"R", "G", "B"}, img.data_window());
     st = evaluate_blur_map(zero, cam, flat, {}, out.data());
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'Z'"), std::string::npos) << st.message();
-    st = evaluate_blur_map(zero, cam, flat, {"", "depth"}, out.data());
+    st = evaluate_blur_map(zero, cam, flat, source("", "depth"), out.data());
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'depth'"), std::string::npos) << st.message();
 }

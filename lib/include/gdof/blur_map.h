@@ -26,6 +26,9 @@ struct PositionSource {
     // "" = automatic: Z, depth.Z, Depth.Z, depth, Depth. Used when no position
     // pass is found (or always, when position_channels is "" and no P exists).
     std::string depth_channel;
+    // How the depth channel's values encode depth (metric by default; inverse
+    // depth, scaled integer counts, near/far-normalised: see camera.h).
+    DepthDecode depth_decode;
 };
 
 // Position channels per the source, nullopt if the image has none (automatic
