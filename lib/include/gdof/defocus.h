@@ -1,0 +1,63 @@
+// Method 3 end to end: generalized defocus by simulated heat diffusion of
+// layers (Kosloff & Barsky, section 4).
+//
+//   input (deep / multipart / RGBA + depth) -> layers (layers.h)
+//   -> per layer: blur radius per pixel from the blur field at the pixel's
+//      world position, smoothly extrapolated beyond the layer's coverage
+//      (push-pull, fill.h) so a blurred object grows past its silhouette
+//   -> diffusion of premultiplied RGBA (diffusion.h) on the layer's window
+//      grown by its largest blur; zero-blur and empty layers pass through
+//   -> composite back to front with `over`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gdof/blur_field.h"
+#include "gdof/camera.h"
+#include "gdof/diffusion.h"
+#include "gdof/exec.h"
+#include "gdof/image_set.h"
+#include "gdof/layers.h"
+#include "gdof/status.h"
+
+namespace gdof {
+
+struct DefocusSettings {
+    DiffusionSettings diffusion;
+    LayerSplit split;        // deep and RGBA + depth inputs
+    PositionSource source;   // position / depth channels and depth encoding
+    // Output region in absolute pixels; empty = the whole result (the input's
+    // data window grown by the spread of the largest blur, clipped to the
+    // display window grown by the same margin). A sub-region equals the crop
+    // of the whole result to within 1e-4 of the image's peak value.
+    Roi roi;
+};
+
+struct DefocusStats {
+    int layers = 0;
+    int layers_empty = 0;      // no coverage: cost nothing
+    int layers_sharp = 0;      // largest blur 0: passed through untouched
+    std::size_t pixels_diffused = 0;  // summed over layers (work-region pixels)
+    std::size_t pixels_skipped = 0;   // layer pixels outside any work region / in sharp layers
+    double max_radius_px = 0.0;
+    // Seconds per stage.
+    double t_layers = 0, t_blur = 0, t_extrapolate = 0, t_diffuse = 0, t_composite = 0;
+    std::string report() const;  // multi-line, for --stats
+};
+
+// Defocuses prepared layers (front = index 0). Output: float R, G, B, A
+// (premultiplied) over settings.roi or the whole result.
+Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                             const DefocusSettings& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+
+// Defocuses a whole file's contents: a deep part -> layers_from_deep; several
+// RGBA layers/parts with P or Z -> layers_from_parts; a single flat RGBA with
+// depth -> layers_from_depth_map. The result is one flat part: R, G, B, A
+// (with each colour channel's input type), the input's display window and
+// metadata; other channels of a flat input (Z, P, N, ids) are carried over
+// unchanged on the new data window (zero where the input had no data).
+Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
+                         const DefocusSettings& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+
+}  // namespace gdof
