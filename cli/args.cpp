@@ -6,7 +6,9 @@
 #include <iostream>
 
 #include "cli.h"
+#include "gdof/diffusion.h"
 #include "gdof/io/sequence.h"
+#include "gdof/layers.h"
 #include "gdof/version.h"
 
 namespace gdof::cli {
@@ -77,6 +79,15 @@ std::vector<CommandDef> make_table() {
     add({"--f-number"}, "N", Kind::Modifier, B, "lens f-number (overrides metadata)");
     add({"--focus-distance"}, "D", Kind::Modifier, B, "lens focus distance in scene units (overrides metadata)");
     add({"--scene-unit-mm"}, "MM", Kind::Modifier, B, "millimetres per scene unit (default 1000: metres)");
+
+    const std::string D = "Defocus by heat diffusion (method 3)";
+    add({"--diffuse"}, "", Kind::Action, D,
+        "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
+        "(default: the camera's thin lens) and composited");
+    add({"--solver"}, "NAME", Kind::Modifier, D, "diffusion solver: adi (default, fast) or explicit (the paper's reference)");
+    add({"--layers"}, "N|auto|id[:CHANNEL]", Kind::Modifier, D,
+        "how --diffuse splits the input into layers: auto (depth clusters), N slices, or by a deep id channel");
+    add({"--adi-steps"}, "K", Kind::Modifier, D, "ADI sub-steps per layer (default 0: automatic, up to 64)");
     return t;
 }
 
@@ -103,6 +114,7 @@ int parse_int(const std::string& flag, const std::string& v) {
 void validate_structure(const Program& p) {
     int depth = 0;
     bool pending_iscs = false;
+    std::string pending_diffuse;  // a --diffuse modifier not yet followed by --diffuse
     bool any_action = false;
     for (const Step& s : p.steps) {
         if (s.is_input()) {
@@ -112,15 +124,19 @@ void validate_structure(const Program& p) {
             continue;
         }
         const std::string& n = s.name();
-        if (n == "-o" || n == "--colorconvert" || n == "--eval-blur") {
+        if (n == "-o" || n == "--colorconvert" || n == "--eval-blur" || n == "--diffuse") {
             if (depth == 0)
                 usage_error(s.flag + ": no image on the stack (give an input file before " + s.flag + ")");
             any_action = true;
         }
         if (n == "--info" || n == "--blurfield") any_action = true;
         if (n == "--iscolorspace") pending_iscs = true;
+        if (n == "--solver" || n == "--layers" || n == "--adi-steps") pending_diffuse = s.flag;
+        if (n == "--diffuse") pending_diffuse.clear();
     }
     if (pending_iscs) usage_error("--iscolorspace: no input file follows it");
+    if (!pending_diffuse.empty())
+        usage_error(pending_diffuse + ": no --diffuse follows it (modifiers apply to the commands after them)");
     if (!any_action) usage_error("nothing to do: give an input file or a command");
 }
 
@@ -225,6 +241,15 @@ std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exi
                    n == "--focus-distance" || n == "--scene-unit-mm") {
             double v = parse_double(flag, s.args[0]);
             if (!(v > 0) || !std::isfinite(v)) usage_error(flag + ": expected a positive number, got '" + s.args[0] + "'");
+        } else if (n == "--solver") {
+            auto r = parse_diffusion_solver(s.args[0].c_str());
+            if (!r) usage_error(flag + ": " + r.message());
+        } else if (n == "--layers") {
+            auto r = parse_layer_split(s.args[0]);
+            if (!r) usage_error(flag + ": " + r.message());
+        } else if (n == "--adi-steps") {
+            const int k = parse_int(flag, s.args[0]);
+            if (k < 0 || k > 1000) usage_error(flag + ": expected 0 (automatic) to 1000, got '" + s.args[0] + "'");
         } else if (n == "-i") {
             s.def = nullptr;  // an input like any bare file name
         }

@@ -7,7 +7,8 @@
 //   cmd_io.cpp    inputs, -o, --info
 //   cmd_colour.cpp --colorconvert (and the colour config)
 //   cmd_channels.cpp --ch, --mulc
-//   cmd_blur.cpp  --blurfield, --eval-blur
+//   cmd_blur.cpp  --blurfield, --eval-blur (and the camera / field helpers)
+//   cmd_diffuse.cpp --diffuse (method 3: heat diffusion of layers)
 //   progress.cpp  progress bar, frame counter, --stats timers
 //   signals.cpp   Ctrl-C -> cancel flag
 //   main.cpp      error reporting and exit codes
@@ -23,10 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "gdof/blur_field.h"
 #include "gdof/camera.h"
+#include "gdof/diffusion.h"
 #include "gdof/exec.h"
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
+#include "gdof/layers.h"
 #include "gdof/status.h"
 
 namespace gdof::cli {
@@ -214,6 +218,11 @@ struct Frame {
     std::map<std::string, double> camera_overrides;  // "focal_length_mm" -> 35
     std::shared_ptr<BlurState> blur;
 
+    // --diffuse modifiers (names as the library's settings).
+    DiffusionSolver solver = DiffusionSolver::Adi;  // --solver
+    LayerSplit layer_split;                         // --layers
+    int adi_steps = 0;                              // --adi-steps (0: automatic)
+
     StackEntry& top(const std::string& flag);
 };
 
@@ -229,6 +238,15 @@ void do_ch(Frame& f, const std::string& list);
 void do_mulc(Frame& f, const std::string& list);
 void do_blurfield(Frame& f, const std::string& path);
 void do_eval_blur(Frame& f);
+void do_diffuse(Frame& f);
+// Shared by --eval-blur and --diffuse (cmd_blur.cpp). Errors name `flag`.
+std::string image_name(const StackEntry& e);  // "'in.exr'" or "the top image"
+LensOverrides lens_overrides(const Frame& f);
+// The camera of a part: its metadata with the --focal-length-mm ... overrides.
+Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const std::string& flag,
+                   const std::string& where);
+// --blurfield, else a thin lens from the camera's lens data.
+BlurField field_for(const Frame& f, const Camera& camera, const std::string& flag, const std::string& where);
 // Canonical name of the scene-linear working space of a config ("" if none).
 std::string working_space(const io::ColourConfig& config);
 // Checks colour space names against the config before any work is done.

@@ -19,8 +19,6 @@ struct BlurState {
     BlurField field;
 };
 
-namespace {
-
 std::string image_name(const StackEntry& e) { return e.source.empty() ? std::string("the top image") : "'" + e.source + "'"; }
 
 LensOverrides lens_overrides(const Frame& f) {
@@ -38,29 +36,32 @@ LensOverrides lens_overrides(const Frame& f) {
     return ov;
 }
 
-Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const std::string& where) {
+Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const std::string& flag,
+                   const std::string& where) {
     auto cam = resolve_camera(md, display, lens_overrides(f));
     if (!cam) {
         std::string msg = cam.message();
         // Name the flag that supplies a camera on the command line.
         const std::string generic = "give a focal length";
         if (auto at = msg.find(generic); at != std::string::npos) msg.replace(at, generic.size(), "give --focal-length-mm");
-        runtime_error("--eval-blur: " + where + ": " + msg);
+        runtime_error(flag + ": " + where + ": " + msg);
     }
     return std::move(cam).value();
 }
 
 // The field: --blurfield, else a thin lens from the camera's lens data.
-BlurField field_for(const Frame& f, const Camera& camera, const std::string& where) {
+BlurField field_for(const Frame& f, const Camera& camera, const std::string& flag, const std::string& where) {
     if (f.blur) return f.blur->field;
     auto lens = camera.thin_lens();
     if (!lens)
-        runtime_error("--eval-blur: no --blurfield given and " + where + " has no complete lens for a thin lens: " +
+        runtime_error(flag + ": no --blurfield given and " + where + " has no complete lens for a thin lens: " +
                       lens.message() + " (or give --focal-length-mm, --f-number, --focus-distance, --sensor-width-mm)");
     auto tl = BlurField::from_thin_lens(lens.value());
-    if (!tl) runtime_error("--eval-blur: " + tl.message());
+    if (!tl) runtime_error(flag + ": " + tl.message());
     return std::move(tl).value();
 }
+
+namespace {
 
 // Reports the library's row progress on the CLI's bar, and stops on Ctrl-C.
 void run_with_progress(Frame& f, const std::string& where, const std::function<Status(const Exec&)>& work) {
@@ -85,8 +86,8 @@ bool eval_blur_deep(Frame& f, DeepImage& deep, const std::string& where, std::ve
                           (f.depth_channel.empty() ? std::string("Z") : f.depth_channel) + "'");
         return false;
     }
-    const Camera camera = part_camera(f, deep.metadata, deep.display_window(), where);
-    const BlurField field = field_for(f, camera, where);
+    const Camera camera = part_camera(f, deep.metadata, deep.display_window(), "--eval-blur", where);
+    const BlurField field = field_for(f, camera, "--eval-blur", where);
     int bc = deep.channel_index("blur");
     if (bc >= 0 && deep.channel(bc).type == PixelType::UInt)
         runtime_error("--eval-blur: " + where + " has a uint channel 'blur'; cannot write the blur there");
@@ -165,8 +166,8 @@ void do_eval_blur(Frame& f) {
                 continue;
             }
         }
-        const Camera camera = part_camera(f, img.metadata, img.display_window(), pwhere);
-        const BlurField field = field_for(f, camera, pwhere);
+        const Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", pwhere);
+        const BlurField field = field_for(f, camera, "--eval-blur", pwhere);
         // Output channel: replaces an existing float "blur".
         int bc = img.channel_index("blur");
         if (bc >= 0 && img.channel(bc).type == PixelType::UInt) {

@@ -57,6 +57,10 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         else if (n == "--compression") f.output_compression = args[0];
         else if (n == "--blurfield") do_blurfield(f, args[0]);
         else if (n == "--eval-blur") do_eval_blur(f);
+        else if (n == "--diffuse") do_diffuse(f);
+        else if (n == "--solver") f.solver = take(parse_diffusion_solver(args[0].c_str()), step.flag);
+        else if (n == "--layers") f.layer_split = take(parse_layer_split(args[0]), step.flag);
+        else if (n == "--adi-steps") f.adi_steps = int(parse_double(step.flag, args[0]));
         else if (n == "--position-channels") f.position_channels = args[0];
         else if (n == "--depth-channel") f.depth_channel = args[0];
         else if (n == "--depth-encoding") {

@@ -98,9 +98,11 @@ bool push_pull_fill(std::span<float* const> planes, const float* weight, int wid
             }
         }
     }
+    // levels[0], not l0: push_back above may have moved the levels.
+    const Level& base = levels[0];
     for (std::size_t i = 0; i < n; ++i)
         if (!(weight[i] > 0.0f))
-            for (int c = 0; c < nc; ++c) planes[std::size_t(c)][i] = l0.values[std::size_t(c)][i];
+            for (int c = 0; c < nc; ++c) planes[std::size_t(c)][i] = base.values[std::size_t(c)][i];
     return true;
 }
 

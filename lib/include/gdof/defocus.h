@@ -27,10 +27,16 @@ struct DefocusSettings {
     DiffusionSettings diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
     PositionSource source;   // position / depth channels and depth encoding
-    // Output region in absolute pixels; empty = the whole result (the input's
-    // data window grown by the spread of the largest blur, clipped to the
-    // display window grown by the same margin). A sub-region equals the crop
-    // of the whole result to within 1e-4 of the image's peak value.
+    // Output region in absolute pixels; empty = the whole result: the union
+    // of the layers' data windows and their work regions (each layer's
+    // content grown by defocus_margin of its own largest blur), clipped to
+    // the frame (display window ∪ the layers' data windows). The frame edge
+    // insulates: blur does not leak out of it, so a full-frame plate keeps
+    // opaque edges (as an edge-clamped blur would). (So the result lies within
+    // defocus_output_region(input data window, display, largest blur).)
+    // A sub-region equals the crop of the whole result to within 1e-4 of the
+    // image's peak value (measured: about 1e-5, from the insulated boundary of
+    // the cropped work regions).
     Roi roi;
 };
 
@@ -45,6 +51,20 @@ struct DefocusStats {
     double t_layers = 0, t_blur = 0, t_extrapolate = 0, t_diffuse = 0, t_composite = 0;
     std::string report() const;  // multi-line, for --stats
 };
+
+// Region maths (one place, shared by the pipeline, the CLI and the OFX
+// RoI / RoD actions). A blur of CoC radius R is a Gaussian of sigma = R / 2;
+// its spread is 3 sigma (+1 px for the discrete stencil):
+//   defocus_margin(R) = ceil(1.5 R) + 1 for R > 0, 0 for R <= 0 (or NaN).
+int defocus_margin(double max_radius_px);
+// The input region needed to compute `output`: output grown by the margin of
+// the largest blur radius. (Pixels of a layer outside it cannot reach the
+// output by more than the Gaussian's 3-sigma tail.)
+Roi defocus_input_region(const Roi& output, double max_radius_px);
+// The output domain (RoD) of an input data window: the window grown by the
+// margin, clipped to the frame (display window ∪ input data window). Empty
+// in, empty out.
+Roi defocus_output_region(const Roi& input_data_window, const Roi& display_window, double max_radius_px);
 
 // Defocuses prepared layers (front = index 0). Output: float R, G, B, A
 // (premultiplied) over settings.roi or the whole result.

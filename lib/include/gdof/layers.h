@@ -18,47 +18,95 @@
 namespace gdof {
 
 // One layer. `image` has float channels R, G, B, A (premultiplied) and Z
-// (depth along the view axis), and P.x, P.y, P.z when the source had world
-// positions. Its data window covers the layer's pixels (it may be smaller
-// than the input's). Where the layer has no coverage, A = 0 and Z is NaN
-// unless the layer was extended (see layers_from_depth_map).
+// (metric depth along the view axis, already decoded: evaluate it with a
+// default PositionSource), and P.x, P.y, P.z when the source had world
+// positions. Its data window is the bounding box of the layer's pixels (it
+// may be smaller than the input's, and is empty for an empty layer); its
+// display window and metadata are the input's. Where the layer has no
+// coverage, R = G = B = A = 0 and Z (and P) are NaN, unless the layer was
+// extended (see layers_from_depth_map). Covered pixels may have Z = +inf
+// (sky, or invalid depth in a depth map): blur fields must accept it.
 struct Layer {
     Image image;
     std::string name;          // "depth 2.10-3.40", "id 12", a part or layer name
-    double depth_near = 0.0;   // smallest covered depth
-    double depth_far = 0.0;    // largest covered depth
+    double depth_near = 0.0;   // smallest covered depth (NaN for an empty layer)
+    double depth_far = 0.0;    // largest covered depth (+inf if it holds invalid / sky depths)
+    // The depth interval the split gave this layer: Count: the equal 1/depth
+    // extent; Auto: the cluster's range; id and part layers: the covered range.
+    double slice_near = 0.0;
+    double slice_far = 0.0;
 };
 
 struct LayerSplit {
     enum class Mode {
-        Auto,   // split where the sorted sample depths have gaps (clusters), at most max_layers
-        Count,  // `count` layers of equal extent in 1/depth (even in defocus for a thin lens)
-        ById,   // one layer per value of the uint channel `id_channel` (deep inputs)
+        // Split where the sample depths have gaps (clusters), at most
+        // max_layers: a histogram of log(depth) (bins of 0.0125); a gap is a
+        // run of bins holding at most 2e-5 of the samples (strays, mixed edge
+        // depths), not touching either end, at least 0.05 wide in log depth
+        // (a 5 % depth ratio); the widest max_layers - 1 gaps are kept, each
+        // split at its middle. Continuous depths give one layer.
+        Auto,
+        // `count` layers of equal extent in 1/depth between the smallest and
+        // largest positive finite depth (+inf counts as 1/depth = 0): even in
+        // defocus for a thin lens. Empty slices are kept (empty windows).
+        Count,
+        // One layer per value of the uint channel `id_channel` (deep inputs),
+        // ordered by the median depth of its samples; named "<channel> <id>".
+        ById,
     };
     Mode mode = Mode::Auto;
     int count = 8;
     int max_layers = 32;
     std::string id_channel = "id";
 };
-// Parses "auto", "N" (count), "id" / "id:CHANNEL"; errors name the value.
+// Parses "auto", "auto:MAX" (max_layers), "N" (count, 1..1024), "id" /
+// "id:CHANNEL"; errors name the value.
 Result<LayerSplit> parse_layer_split(const std::string& text);
 
 // Deep image -> layers: samples grouped by depth (or id); within a layer a
-// pixel's samples are composited front to back with `over`; Z of a layer
-// pixel is the alpha-weighted mean depth of its samples.
+// pixel's samples are sorted by Z (stored order may be anything; ties keep
+// file order) and composited front to back with `over`; Z of a layer pixel
+// is the mean depth of its samples weighted by their contributions
+// (alpha * transmittance; the nearest sample's if none contributes). P, when
+// the deep image has positions, is averaged the same way.
+// Needs R, G, B and Z (no A: opaque samples). ZBack is ignored (a sample
+// counts at Z). Z NaN or -inf, or a non-finite A, is an error naming the
+// pixel and sample; Z = +inf goes to the farthest layer, Z <= 0 to the
+// nearest. For depth splits, compositing all layers with composite_layers
+// equals flatten_deep up to float rounding (the layers partition the sorted
+// samples); for ById only when ids do not interleave in depth.
 Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec = {});
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
 // R, G, B, A and a position pass or depth becomes a layer, ordered front to
-// back by median depth. Positions are found as blur_map.h describes.
+// back by the median depth of its covered pixels (stable; no finite depth:
+// last). Positions are found as blur_map.h describes, under the prefix;
+// depth: "<prefix>.Z", ".depth.Z", ".Depth.Z", ".depth", ".Depth" or
+// source.depth_channel under the prefix, decoded with source.depth_decode.
+// A part's unprefixed layer may lack A (opaque). With positions but no
+// depth, Z is the depth in the part's camera (worldToCamera / worldToNDC),
+// or P.z without camera attributes (camera at the origin looking down +z).
+// Covered: A > 0 or any colour != 0; colour is taken as premultiplied.
+// Deep parts become layers through layers_from_deep (Auto split). Names:
+// part name, "part.prefix", or the prefix for unnamed parts. No layer at
+// all is an error that says what was looked for.
 Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source);
 
-// Flat RGBA + depth (live action) -> depth slices. Each pixel goes to the
-// slice of its depth (alpha kept). Behind nearer slices, each slice is
-// extended with a push-pull fill of its own colour and depth (opaque) up to
-// `extend_px` pixels beyond its coverage (the farthest slice: everywhere),
-// so blurring a foreground away reveals plausible background, not black.
+// Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
+// is an error). Each present pixel (A > 0 or colour != 0; no A channel:
+// opaque) goes to exactly one slice, the slice of its depth, with its colour
+// and alpha. The depth channel (source.depth_channel or Z, depth.Z, Depth.Z,
+// depth, Depth) is decoded with source.depth_decode; pixels whose decoded
+// depth is not finite (invalid, holes, sky) get Z = +inf and belong to the
+// farthest slice. Position channels (source.position_channels) are carried.
+// Extension: for every slice but the nearest non-empty one, the pixels
+// present in nearer slices (hidden behind them) within `extend_px` pixels
+// (Euclidean) of the slice's own pixels -- for the farthest non-empty slice
+// all hidden pixels of the image -- get alpha 1 and a push-pull fill
+// (fill.h) of the slice's unpremultiplied colour (weights = its alpha) and
+// of its depth and positions (weights = its alpha where finite), so
+// blurring a foreground away reveals plausible background, not black.
 struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding
@@ -68,11 +116,17 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const 
                                                  const Exec& exec = {});
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
-// (float) and Z = depth of the nearest sample (NaN where there is none).
+// (float) and Z = depth of the nearest sample (NaN where there is none), over
+// the deep data window (display window, metadata, name and view kept).
+// Samples are sorted by Z first; same sample rules and errors as
+// layers_from_deep. RGBA equals OIIO's ImageBufAlgo::flatten on sorted
+// files (OIIO's Z is an alpha-composited depth instead, 1e30 where empty).
 Result<Image> flatten_deep(const DeepImage& deep);
 
 // Composites layers (front = index 0) back to front with `over` into an
-// image of float R, G, B, A over `window`; layers may have any data windows.
+// image of float R, G, B, A over `window` (absolute pixels; display window:
+// the first layer's, else `window`); layers may have any data windows,
+// inside or outside it. Null entries are skipped; a layer without A is opaque.
 Image composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window);
 
 }  // namespace gdof

@@ -1,0 +1,64 @@
+// Internal pieces of the defocus pipeline (defocus.h), shared by the
+// defocus_*.cpp files only.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "gdof/defocus.h"
+
+namespace gdof::defocus_detail {
+
+// What one layer holds, found once over the whole layer.
+struct LayerAnalysis {
+    RgbaIndices rgba;
+    bool empty = true;         // no pixel with any of R, G, B, A != 0
+    Roi content;               // bounding box of those pixels
+    // Radii are known at pixels with A > 0 (weight min(A, 1)); a layer with
+    // colour but no alpha anywhere (pure emission) takes them from its content
+    // pixels where the field is finite.
+    bool radius_from_alpha = true;
+    double max_radius = 0.0;   // largest known radius (0: the layer is sharp)
+    std::vector<float> radius; // over the layer's data window, valid where known
+};
+
+// Blur map of a layer at its pixels' world positions (P, else Z + camera) and
+// the checks on it: non-finite radii at covered pixels and radii above
+// settings.max_radius are errors naming the layer, the pixel and the value.
+Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
+                                    const DiffusionSettings& settings, const Exec& exec);
+
+// Weight of a layer pixel as a known radius for the extrapolation (0: unknown).
+float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t pixel);
+
+// Name used in messages: "layer 2 'depth 2.10-3.40'".
+std::string layer_label(const Layer& layer, int index);
+
+// A layer's premultiplied R, G, B, A diffused over its work region.
+struct DiffusedLayer {
+    Roi work;
+    std::array<std::vector<float>, 4> rgba;
+};
+
+// The solver settings used for a layer: the step count (ADI) or iteration
+// count (explicit) follows the layer's largest radius over the *whole* layer,
+// not over the (possibly cropped) radius map, so a sub-region render runs the
+// same operator as the full render.
+DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double layer_max_radius,
+                                        const std::vector<float>& radius_map);
+
+// Extrapolates the layer's radii over `extrapolation` (push-pull beyond the
+// known pixels; the whole render's work region, so a cropped render gets the
+// very same radii: push-pull depends on its domain), crops them to `work`,
+// copies the layer's RGBA into zero-padded planes over `work` and diffuses
+// them. Times go to stats.t_extrapolate / t_diffuse.
+Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
+                     const Roi& extrapolation, const DiffusionSettings& settings, const Exec& exec, DiffusedLayer& out,
+                     DefocusStats& stats);
+
+// dst (float R, G, B, A at channels 0..3) = src over dst, where src is four
+// row-major planes over src_window (row stride = its width). A destination
+// pixel that is still all zero receives src bit for bit.
+Status composite_over(Image& dst, const std::array<const float*, 4>& src, const Roi& src_window, const Exec& exec);
+
+}  // namespace gdof::defocus_detail

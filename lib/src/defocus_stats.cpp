@@ -1,0 +1,27 @@
+// DefocusStats::report(): the --stats block of the defocus pipeline.
+#include <iomanip>
+#include <sstream>
+
+#include "gdof/defocus.h"
+
+namespace gdof {
+
+std::string DefocusStats::report() const {
+    std::ostringstream o;
+    o << "defocus:\n";
+    o << "  layers            " << layers << " (" << layers_empty << " empty, " << layers_sharp << " sharp, "
+      << (layers - layers_empty - layers_sharp) << " diffused)\n";
+    o << std::fixed << std::setprecision(2);
+    o << "  max blur radius   " << max_radius_px << " px\n";
+    o << "  pixels diffused   " << pixels_diffused << "\n";
+    o << "  pixels skipped    " << pixels_skipped << "\n";
+    o << std::setprecision(3);
+    const std::pair<const char*, double> stages[] = {{"layers", t_layers},       {"blur map", t_blur},
+                                                     {"extrapolate", t_extrapolate}, {"diffuse", t_diffuse},
+                                                     {"composite", t_composite}};
+    for (const auto& [name, t] : stages) o << "  " << std::left << std::setw(18) << (std::string("t ") + name) << std::right
+                                           << std::setw(8) << t << " s\n";
+    return o.str();
+}
+
+}  // namespace gdof

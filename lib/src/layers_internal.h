@@ -1,0 +1,53 @@
+// Shared pieces of the layer builders (layers_*.cpp): choosing depth slices
+// and small helpers. Not installed.
+#pragma once
+
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gdof/layers.h"
+
+namespace gdof::layers_detail {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Depth slices: slice k holds the depths d with bounds[k-1] <= d < bounds[k]
+// (bounds ascending, one fewer than the slices). Depths <= 0 fall into slice
+// 0 and +inf into the last slice.
+struct DepthSlices {
+    std::vector<double> bounds;
+    // Nominal interval of each slice (Count: the equal 1/depth extents;
+    // Auto: the clusters' sample ranges).
+    std::vector<double> lo, hi;
+    int count() const { return int(bounds.size()) + 1; }
+    int slice_of(double depth) const;
+};
+
+// Auto clustering: gaps in log depth.
+//  - Histogram of log(depth) over the positive finite depths, bins of
+//    kAutoMinGap / 4; a gap is a run of bins holding at most
+//    n * kAutoNoiseFraction samples (stray samples, antialiased depth edges)
+//    that does not touch either end and is at least kAutoMinGap wide
+//    (depth ratio e^0.05 ~ 5 %).
+//  - At most max_layers - 1 gaps are kept (the widest; ties: nearest first).
+constexpr double kAutoMinGap = 0.05;
+constexpr double kAutoNoiseFraction = 2e-5;
+
+// Slices for Auto / Count from the sample depths (NaN must be filtered out
+// by the caller; +inf and <= 0 are allowed and ignored when choosing).
+DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split);
+
+// "depth 2.1-3.4"
+std::string depth_range_name(double near, double far);
+
+// Median of the finite values (sorted copy); NaN if none.
+double median_finite(std::vector<float> values);
+
+// Exact Euclidean distance transform: out[i] = distance from pixel i to the
+// nearest pixel with mask != 0 (+inf if none). Row-major width x height.
+void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out);
+
+}  // namespace gdof::layers_detail

@@ -1,0 +1,279 @@
+// layers_from_depth_map: depth slices of a flat RGBA + depth image and the
+// background extension behind nearer slices.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "gdof/layers.h"
+
+using namespace gdof;
+
+namespace {
+
+const Roi kWin{-4, 2, 60, 50};  // negative origin on purpose
+
+bool in_disc(int x, int y) { return (x - 26) * (x - 26) + (y - 26) * (y - 26) <= 100; }
+bool in_box(int x, int y) { return x >= 34 && x < 46 && y >= 10 && y < 22; }
+
+// Smooth wall texture.
+float wall(int c, int x, int y) {
+    switch (c) {
+        case 0: return 0.3f + 0.2f * std::sin(float(x) / 6.0f);
+        case 1: return 0.4f + 0.1f * std::cos(float(y) / 5.0f);
+        default: return 0.2f;
+    }
+}
+
+// Opaque RGBA + Z: a red disc at depth 2 in front of a textured wall at 10
+// (and, optionally, a blue box at depth 5).
+Image scene(bool with_box = false, bool with_alpha = true) {
+    std::vector<std::string> ch = {"R", "G", "B"};
+    if (with_alpha) ch.push_back("A");
+    ch.push_back("Z");
+    Image img = Image::with_channels(ch, kWin);
+    const int zc = img.channel_index("Z");
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            float rgb[3] = {wall(0, x, y), wall(1, x, y), wall(2, x, y)};
+            float z = 10.0f;
+            if (with_box && in_box(x, y)) {
+                rgb[0] = 0.1f, rgb[1] = 0.1f, rgb[2] = 0.9f;
+                z = 5.0f;
+            }
+            if (in_disc(x, y)) {
+                rgb[0] = 0.9f, rgb[1] = 0.1f, rgb[2] = 0.1f;
+                z = 2.0f;
+            }
+            for (int c = 0; c < 3; ++c) img.at(c, x, y) = rgb[c];
+            if (with_alpha) img.at(3, x, y) = 1.0f;
+            img.at(zc, x, y) = z;
+        }
+    return img;
+}
+
+std::vector<const Image*> pointers(const std::vector<Layer>& layers) {
+    std::vector<const Image*> out;
+    for (const auto& l : layers) out.push_back(&l.image);
+    return out;
+}
+
+float at_or(const Image& img, int c, int x, int y, float dflt) {
+    return img.data_window().contains(x, y) ? img.at(c, x, y) : dflt;
+}
+
+}  // namespace
+
+TEST(layers_depth_map, TwoSlicesAndTheFarSliceContinuesBehindTheDisc) {
+    SliceOptions opt;
+    auto r = layers_from_depth_map(scene(), opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 2u);
+    const Layer& fg = (*r)[0];
+    const Layer& bg = (*r)[1];
+    EXPECT_EQ(fg.depth_near, 2.0);
+    EXPECT_EQ(fg.depth_far, 2.0);
+    EXPECT_EQ(bg.depth_near, 10.0);
+    EXPECT_EQ(fg.image.data_window(), (Roi{16, 16, 37, 37}));
+    EXPECT_EQ(bg.image.data_window(), kWin);
+    // Front slice: the disc only.
+    EXPECT_EQ(fg.image.at(3, 26, 26), 1.0f);
+    EXPECT_EQ(fg.image.at(3, 16, 16), 0.0f);
+    EXPECT_TRUE(std::isnan(fg.image.at(4, 16, 16)));
+    // Far slice behind the disc: opaque, depth of the wall, colour close to the wall's.
+    double err = 0, worst = 0;
+    int n = 0;
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            if (!in_disc(x, y)) {
+                for (int c = 0; c < 3; ++c) ASSERT_EQ(bg.image.at(c, x, y), wall(c, x, y));
+                continue;
+            }
+            ASSERT_EQ(bg.image.at(3, x, y), 1.0f);
+            EXPECT_NEAR(bg.image.at(4, x, y), 10.0f, 1e-5f);
+            for (int c = 0; c < 3; ++c) {
+                const double e = std::fabs(bg.image.at(c, x, y) - wall(c, x, y));
+                err += e;
+                worst = std::max(worst, e);
+                ++n;
+                EXPECT_GT(bg.image.at(c, x, y), 0.05f) << "black behind the disc at " << x << "," << y;
+            }
+        }
+    std::cout << "[ measured ] extension behind the disc vs the true wall: mean |diff| " << err / n << ", max " << worst
+              << "\n";
+    EXPECT_LT(err / n, 0.05);
+    EXPECT_LT(worst, 0.25);
+    // Compositing the slices gives the input back (opaque input).
+    const Image src = scene();
+    Image comp = composite_layers(pointers(*r), kWin);
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x)
+            for (int c = 0; c < 4; ++c) ASSERT_EQ(comp.at(c, x, y), src.at(c, x, y)) << x << "," << y;
+}
+
+TEST(layers_depth_map, EveryPixelBelongsToExactlyOneSlice) {
+    // Alpha varies (premultiplied colour): each present pixel is own data of
+    // exactly one slice (its depth, its alpha); the others hold it only as
+    // extension (filled depth, alpha 1) or not at all.
+    Image img = scene(true);
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            const float a = 0.25f + 0.75f * float((x * 7 + y * 3) % 11) / 10.0f;
+            for (int c = 0; c < 3; ++c) img.at(c, x, y) *= a;
+            img.at(3, x, y) = a;
+        }
+    SliceOptions opt;
+    opt.extend_px = 4;
+    auto r = layers_from_depth_map(img, opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 3u);
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            int owners = 0;
+            double alpha = 0;
+            for (const auto& L : *r) {
+                const float z = at_or(L.image, 4, x, y, NAN);
+                if (z == img.at(4, x, y) && at_or(L.image, 3, x, y, 0) == img.at(3, x, y)) {
+                    ++owners;
+                    alpha += at_or(L.image, 3, x, y, 0);
+                    for (int c = 0; c < 3; ++c) ASSERT_EQ(L.image.at(c, x, y), img.at(c, x, y));
+                }
+            }
+            ASSERT_EQ(owners, 1) << x << "," << y;
+            ASSERT_EQ(alpha, img.at(3, x, y));
+        }
+}
+
+TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
+    SliceOptions opt;
+    opt.extend_px = 3;
+    auto r = layers_from_depth_map(scene(true), opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 3u);
+    const Image& mid = (*r)[1].image;
+    const Image& far = (*r)[2].image;
+    EXPECT_EQ((*r)[1].depth_near, 5.0);
+    // Disc pixels (hidden behind the front slice): the middle slice covers
+    // those within 3 px of the box, opaquely, with the box's colour and depth.
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            if (!in_disc(x, y)) continue;
+            double d = 1e9;
+            for (int by = 10; by < 22; ++by)
+                for (int bx = 34; bx < 46; ++bx)
+                    if (!in_disc(bx, by)) d = std::min(d, std::hypot(double(x - bx), double(y - by)));
+            const float a = at_or(mid, 3, x, y, 0.0f);
+            if (d <= 3.0) {
+                ASSERT_EQ(a, 1.0f) << x << "," << y;
+                EXPECT_NEAR(mid.at(2, x, y), 0.9f, 1e-5f);
+                EXPECT_NEAR(mid.at(4, x, y), 5.0f, 1e-5f);
+            } else {
+                ASSERT_EQ(a, 0.0f) << x << "," << y << " d=" << d;
+            }
+            // The farthest slice covers every hidden pixel.
+            ASSERT_EQ(far.at(3, x, y), 1.0f);
+        }
+    // Wall pixels are not hidden: the middle slice never covers them.
+    EXPECT_EQ(at_or(mid, 3, 33, 10, 0.0f), 0.0f);
+    // Box pixels are hidden for the far slice: covered, wall depth.
+    EXPECT_EQ(far.at(3, 40, 15), 1.0f);
+    EXPECT_NEAR(far.at(4, 40, 15), 10.0f, 1e-5f);
+    // Without extension the middle slice is its own coverage only.
+    SliceOptions none;
+    auto r0 = layers_from_depth_map(scene(true), none);
+    ASSERT_TRUE(r0) << r0.message();
+    EXPECT_EQ((*r0)[1].image.data_window(), (Roi{34, 10, 46, 22}));
+}
+
+TEST(layers_depth_map, InvalidDepthGoesToTheFarthestSlice) {
+    Image img = scene(false, false);  // no alpha: opaque
+    const int zc = img.channel_index("Z");
+    img.at(zc, 0, 5) = 0.0f;    // metric 0: invalid
+    img.at(zc, 26, 26) = NAN;   // inside the disc
+    auto r = layers_from_depth_map(img, SliceOptions{});
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 2u);
+    const Layer& fg = (*r)[0];
+    const Layer& bg = (*r)[1];
+    EXPECT_TRUE(std::isinf(bg.depth_far));
+    EXPECT_EQ(bg.depth_near, 10.0);
+    EXPECT_TRUE(std::isinf(bg.image.at(4, 0, 5)));
+    EXPECT_EQ(bg.image.at(3, 0, 5), 1.0f);
+    EXPECT_EQ(bg.image.at(0, 26, 26), 0.9f);  // own pixel of the far slice
+    EXPECT_EQ(fg.image.at(3, 26, 26), 0.0f);
+    EXPECT_EQ(fg.image.at(3, 25, 26), 1.0f);
+}
+
+TEST(layers_depth_map, InverseDepthEncoding) {
+    Image img = scene(true);
+    const int zc = img.channel_index("Z");
+    for (std::size_t i = 0; i < img.npixels(); ++i) img.plane(zc)[i] = 1.0f / img.plane(zc)[i];
+    SliceOptions opt;
+    opt.source.depth_decode.encoding = DepthEncoding::Inverse;
+    auto r = layers_from_depth_map(img, opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 3u);
+    EXPECT_NEAR((*r)[0].depth_near, 2.0, 1e-6);
+    EXPECT_NEAR((*r)[1].depth_near, 5.0, 1e-6);
+    EXPECT_NEAR((*r)[2].depth_near, 10.0, 1e-5);
+    EXPECT_NEAR((*r)[0].image.at(4, 26, 26), 2.0f, 1e-6f);
+    // Same slicing as the metric image.
+    auto m = layers_from_depth_map(scene(true), SliceOptions{});
+    ASSERT_TRUE(m);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ((*r)[i].image.data_window(), (*m)[i].image.data_window());
+}
+
+TEST(layers_depth_map, CountKeepsEmptySlices) {
+    SliceOptions opt;
+    opt.split.mode = LayerSplit::Mode::Count;
+    opt.split.count = 3;  // 1/depth from 1/2 to 1/10: slices [2, 2.73), [2.73, 4.29), [4.29, 10]
+    auto r = layers_from_depth_map(scene(), opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 3u);
+    EXPECT_TRUE((*r)[1].image.data_window().empty());
+    EXPECT_NE((*r)[1].name.find("empty"), std::string::npos) << (*r)[1].name;
+    EXPECT_NEAR(1 / (*r)[1].slice_near - 1 / (*r)[1].slice_far, (0.5 - 0.1) / 3, 1e-12);
+    EXPECT_EQ((*r)[2].image.at(3, 26, 26), 1.0f);  // the farthest non-empty slice still extends
+}
+
+TEST(layers_depth_map, ErrorsNameWhatIsMissing) {
+    Image noz = Image::with_channels({"R", "G", "B", "A"}, kWin);
+    auto a = layers_from_depth_map(noz, SliceOptions{});
+    ASSERT_FALSE(a);
+    EXPECT_NE(a.message().find("depth channel"), std::string::npos) << a.message();
+    EXPECT_NE(a.message().find("Z"), std::string::npos) << a.message();
+    SliceOptions named;
+    named.source.depth_channel = "dist";
+    auto b = layers_from_depth_map(scene(), named);
+    ASSERT_FALSE(b);
+    EXPECT_NE(b.message().find("'dist'"), std::string::npos) << b.message();
+    Image nocolour = Image::with_channels({"Y", "Z"}, kWin);
+    auto c = layers_from_depth_map(nocolour, SliceOptions{});
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.message().find("'R'"), std::string::npos) << c.message();
+    SliceOptions byid;
+    byid.split.mode = LayerSplit::Mode::ById;
+    auto d = layers_from_depth_map(scene(), byid);
+    ASSERT_FALSE(d);
+    EXPECT_NE(d.message().find("deep"), std::string::npos) << d.message();
+}
+
+TEST(layers_depth_map, IndependentOfThreadCount) {
+    Exec one;
+    one.nthreads = 1;
+    Exec many;
+    many.nthreads = 3;
+    SliceOptions opt;
+    opt.extend_px = 5;
+    auto a = layers_from_depth_map(scene(true), opt, one);
+    auto b = layers_from_depth_map(scene(true), opt, many);
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ(a->size(), b->size());
+    for (std::size_t l = 0; l < a->size(); ++l) {
+        const Image& x = (*a)[l].image;
+        const Image& y = (*b)[l].image;
+        ASSERT_EQ(x.data_window(), y.data_window());
+        for (int c = 0; c < x.nchannels(); ++c)
+            ASSERT_EQ(std::memcmp(x.plane(c), y.plane(c), x.npixels() * sizeof(float)), 0);
+    }
+}
