@@ -9,11 +9,16 @@ img="$root/docs/images"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$img"
-"$build/examples/gdof_example_scene" --size 640x360 -o "$tmp/scene.exr"
+"$build/examples/gdof_example_scene" --size 640x360 -o "$tmp/scene.exr" --deep "$tmp/deep.exr"
 "$gdof" "$tmp/scene.exr" --ch R,G,B -o "$img/example_scene.png"
 # The blur field of examples/scene/two_planes.json on the scene: white = 10 px.
 "$gdof" "$tmp/scene.exr" --blurfield "$root/examples/scene/two_planes.json" --eval-blur \
         --ch R=blur,G=blur,B=blur --mulc 0.1 --ocolorspace linear -o "$img/example_blur_two_planes.png"
 "$gdof" "$tmp/scene.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --eval-blur \
         --ch R=blur,G=blur,B=blur --mulc 0.1 --ocolorspace linear -o "$img/example_blur_sphere.png"
+# Method 3 (heat diffusion): the same two fields applied to the scene.
+"$gdof" "$tmp/scene.exr" --blurfield "$root/examples/scene/two_planes.json" --diffuse \
+        --ch R,G,B -o "$img/diffusion_two_planes.png"
+"$gdof" "$tmp/deep.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --diffuse \
+        --ch R,G,B -o "$img/diffusion_sphere_from_deep.png"
 echo "wrote $(ls "$img")" >&2

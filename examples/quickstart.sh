@@ -19,7 +19,15 @@ echo "== the blur field (two focal planes) evaluated on the scene -> $out/blur.e
 "$gdof" "$out/scene.exr" --blurfield "$root/examples/scene/two_planes.json" --eval-blur \
         -o "$out/blur.exr"
 
+echo "== the main job: generalized defocus by heat diffusion (two focal planes) -> $out/defocus.exr" >&2
+"$gdof" "$out/scene.exr" --blurfield "$root/examples/scene/two_planes.json" --diffuse --stats \
+        -o "$out/defocus.exr"
+"$gdof" "$out/scene_deep.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --diffuse \
+        -o "$out/defocus_sphere_from_deep.exr"
+
 echo "== PNG previews" >&2
 "$gdof" "$out/scene.exr" --ch R,G,B -o "$out/scene.png"
 "$gdof" "$out/blur.exr" --ch R=blur,G=blur,B=blur --mulc 0.1 --ocolorspace linear -o "$out/blur.png"
-echo "wrote $out/scene.exr $out/scene_deep.exr $out/blur.exr $out/scene.png $out/blur.png" >&2
+"$gdof" "$out/defocus.exr" --ch R,G,B -o "$out/defocus.png"
+"$gdof" "$out/defocus_sphere_from_deep.exr" --ch R,G,B -o "$out/defocus_sphere_from_deep.png"
+echo "wrote $(cd "$out" && ls)" >&2
