@@ -2,7 +2,9 @@
 // with the input's display window, metadata and colour channel types, and
 // the other channels of a flat input carried over unchanged.
 //
-//   a deep part                         -> layers_from_deep (the first deep part)
+//   a deep part                         -> layers_from_deep (the first deep part),
+//                                          each layer extended behind the nearer
+//                                          layers that fully hide it
 //   several flat parts, or one part with
 //   layer groups ("fg.R/G/B/A" ...)     -> layers_from_parts
 //   one flat part with R, G, B(, A) and
@@ -138,6 +140,21 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
                                  std::to_string(d.nchannels()) + " channels)");
         if (d.z_channel() < 0) return Status::error("defocus: the deep part has no depth channel 'Z'");
         layers = layers_from_deep(d, settings.split, exec);
+        if (layers) {
+            // Deep renders keep only visible samples: extend each layer behind
+            // the nearer layers that fully hide it, as far as the largest blur
+            // can reveal (not into genuinely empty, transparent areas).
+            std::vector<float> r(d.total_samples());
+            if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
+                return st.prefix("defocus: blur field");
+            double rmax = 0.0;
+            for (float v : r)
+                if (std::isfinite(v)) rmax = std::max(rmax, double(v));
+            ExtendBehind ext;
+            ext.extend_px = std::min(rmax, settings.diffusion.max_radius);
+            ext.occluder_alpha = 0.999f;
+            if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
+        }
     } else if (from_parts) {
         layers = layers_from_parts(input, settings.source);
     } else {

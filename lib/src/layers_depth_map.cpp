@@ -8,11 +8,11 @@
 //   whose decoded depth is not finite (invalid samples, sky) get Z = +inf and
 //   belong to the farthest slice.
 // - Positions (P.x/P.y/P.z per source.position_channels) are carried when present.
-// - Extension: for every slice but the nearest, the pixels present in nearer
-//   slices (hidden behind them) within extend_px of the slice's own coverage
-//   (the farthest non-empty slice: all of them) get a push-pull fill of the
-//   slice's unpremultiplied colour (weights = its alpha), depth and positions
-//   (weights = its alpha where finite), with alpha 1.
+// - Extension (extend_layers_behind, layers_extend.cpp): for every slice but
+//   the nearest, the pixels present in nearer slices (hidden behind them)
+//   within extend_px of the slice's own coverage (the farthest non-empty
+//   slice: all of them) get a push-pull fill of the slice's unpremultiplied
+//   colour (weights = its alpha), depth and positions, with alpha 1.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -83,19 +83,15 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
             znear[std::size_t(s)] = std::min(znear[std::size_t(s)], double(depth[i]));
             zfar[std::size_t(s)] = std::max(zfar[std::size_t(s)], double(depth[i]));
         }
-    int farthest = -1;
-    for (int s = 0; s < ns; ++s)
-        if (!own_box[std::size_t(s)].empty()) farthest = s;
-    int nearest = ns;
-    for (int s = ns - 1; s >= 0; --s)
-        if (!own_box[std::size_t(s)].empty()) nearest = s;
 
     std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
     if (pos) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
     const float* pp[3] = {pos ? img.plane((*pos)[0]) : nullptr, pos ? img.plane((*pos)[1]) : nullptr,
                           pos ? img.plane((*pos)[2]) : nullptr};
-    const int grow = int(std::ceil(options.extend_px));
 
+    auto src_index = [&](int x, int y) {  // absolute -> index in the input
+        return std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
+    };
     std::vector<Layer> layers(static_cast<std::size_t>(ns));
     const bool ok = parallel_for(exec, ns, [&](long s0, long s1) {
         for (long sl = s0; sl < s1; ++sl) {
@@ -110,75 +106,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
             L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)"
                            : depth_range_name(L.depth_near, L.depth_far);
 
-            // Work region: where the extension may reach.
-            const bool extend = !empty && s > nearest && (s == farthest || grow > 0);
-            const Roi work = !extend ? own : (s == farthest ? win : intersect(own.grown(grow), win));
-            const int ww = work.width(), wh = work.height();
-            const std::size_t wn = work.npixels();
-            auto src_index = [&](int x, int y) {  // absolute -> index in the input
-                return std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
-            };
-            // Extension mask over the work region.
-            std::vector<unsigned char> ext(wn, 0);
-            if (extend) {
-                std::vector<unsigned char> mine(wn, 0);
-                for (int y = 0; y < wh; ++y)
-                    for (int x = 0; x < ww; ++x) {
-                        const int si = slice[src_index(work.x0 + x, work.y0 + y)];
-                        mine[std::size_t(y) * std::size_t(ww) + std::size_t(x)] = si == s ? 1 : 0;
-                    }
-                std::vector<float> dist;
-                if (s != farthest) distance_transform(mine, ww, wh, dist);
-                for (int y = 0; y < wh; ++y)
-                    for (int x = 0; x < ww; ++x) {
-                        const std::size_t wi = std::size_t(y) * std::size_t(ww) + std::size_t(x);
-                        const int si = slice[src_index(work.x0 + x, work.y0 + y)];
-                        const bool hidden = si >= 0 && si < s;
-                        ext[wi] = hidden && (s == farthest || dist[wi] <= options.extend_px) ? 1 : 0;
-                    }
-            }
-            Roi box = own;
-            for (int y = 0; y < wh; ++y)
-                for (int x = 0; x < ww; ++x)
-                    if (ext[std::size_t(y) * std::size_t(ww) + std::size_t(x)])
-                        box = unite(box, Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});
-
-            // Filled values over the work region (only when extending).
-            const int nfill = pos ? 3 + 1 + 3 : 3 + 1;
-            std::vector<std::vector<float>> fill(static_cast<std::size_t>(nfill));
-            bool have_colour = false, have_depth = false;
-            if (extend) {
-                for (auto& f : fill) f.assign(wn, 0.0f);
-                std::vector<float> wcol(wn, 0.0f), wgeo(wn, 0.0f);
-                for (int y = 0; y < wh; ++y)
-                    for (int x = 0; x < ww; ++x) {
-                        const std::size_t wi = std::size_t(y) * std::size_t(ww) + std::size_t(x);
-                        const std::size_t i = src_index(work.x0 + x, work.y0 + y);
-                        if (slice[i] != s) continue;
-                        const float al = a ? a[i] : 1.0f;
-                        if (al > 0.0f && std::isfinite(al)) {
-                            wcol[wi] = std::min(al, 1.0f);
-                            fill[0][wi] = r[i] / al;
-                            fill[1][wi] = g[i] / al;
-                            fill[2][wi] = b[i] / al;
-                        }
-                        bool geo_ok = std::isfinite(depth[i]);
-                        if (pos)
-                            for (int k = 0; k < 3; ++k) geo_ok = geo_ok && std::isfinite(pp[k][i]);
-                        if (geo_ok && al > 0.0f) {
-                            wgeo[wi] = std::min(al, 1.0f);
-                            fill[3][wi] = depth[i];
-                            if (pos)
-                                for (int k = 0; k < 3; ++k) fill[std::size_t(4 + k)][wi] = pp[k][i];
-                        }
-                    }
-                std::array<float*, 3> cp = {fill[0].data(), fill[1].data(), fill[2].data()};
-                have_colour = push_pull_fill(cp, wcol.data(), ww, wh);
-                std::vector<float*> gp;
-                for (int k = 3; k < nfill; ++k) gp.push_back(fill[std::size_t(k)].data());
-                have_depth = push_pull_fill(gp, wgeo.data(), ww, wh);
-            }
-
+            const Roi box = own;
             L.image = Image::with_channels(chan_names, box);
             L.image.set_display_window(img.display_window());
             L.image.metadata = img.metadata;
@@ -198,18 +126,6 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
                             for (int k = 0; k < 3; ++k) L.image.plane(5 + k)[o] = pp[k][i];
                         continue;
                     }
-                    const std::size_t wi =
-                        work.contains(x, y) ? std::size_t(y - work.y0) * std::size_t(ww) + std::size_t(x - work.x0) : 0;
-                    if (work.contains(x, y) && ext[wi]) {
-                        // Extension: opaque continuation of this slice.
-                        for (int c = 0; c < 3; ++c) L.image.plane(c)[o] = have_colour ? fill[std::size_t(c)][wi] : 0.0f;
-                        L.image.plane(3)[o] = 1.0f;
-                        L.image.plane(4)[o] = have_depth ? fill[3][wi] : float(kInf);
-                        if (pos)
-                            for (int k = 0; k < 3; ++k)
-                                L.image.plane(5 + k)[o] = have_depth ? fill[std::size_t(4 + k)][wi] : kNaN;
-                        continue;
-                    }
                     L.image.plane(4)[o] = kNaN;
                     if (pos)
                         for (int k = 0; k < 3; ++k) L.image.plane(5 + k)[o] = kNaN;
@@ -217,6 +133,13 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
         }
     });
     if (!ok) return Status::error("cancelled");
+    // Plates: the background is everywhere, so the farthest slice fills every
+    // hidden pixel; nearer slices reach extend_px behind their neighbours.
+    ExtendBehind ext;
+    ext.extend_px = options.extend_px;
+    ext.farthest_fills_frame = true;
+    ext.occluder_alpha = 0.0f;
+    if (Status st = extend_layers_behind(layers, win, ext, exec); !st) return st;
     return layers;
 }
 

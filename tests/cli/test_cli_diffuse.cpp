@@ -139,13 +139,13 @@ TEST(cli_diffuse, DeepInputAndAThinLensFromTheFileWithoutBlurfield) {
                 deep_rgba.push_back(px[p * 4 + std::size_t(c)]);
             }
         }
-    // They differ where the deep file's coverage is partial and where a
-    // continuous surface (the ground) is cut into depth layers that have no
-    // colour behind one another (the flat slices are extended; deep layers
-    // are not): measured mean 0.049.
+    // They differ where the deep file's coverage is partial (antialiased
+    // edges are coverage samples, not a flat pixel's average) and in how the
+    // two inputs are cut into layers; both extend layers behind nearer ones.
+    // Measured mean 0.0138 (0.049 before deep layers were extended).
     const double d = mean_abs_diff(deep_rgba, rgba, 4, 4);
     std::printf("[ measured ] deep vs flat input, mean |difference| of defocused RGBA inside the frame: %.4f\n", d);
-    EXPECT_LT(d, 0.1);
+    EXPECT_LT(d, 0.03);
 
     // No --blurfield: the camera's own lens (the file has focal length, f-number, focus distance).
     r = run_gdof(quote(sc.flat) + " --diffuse -o " + quote(sc.dir.file("lens.exr")));

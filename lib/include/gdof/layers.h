@@ -115,6 +115,23 @@ struct SliceOptions {
 Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                  const Exec& exec = {});
 
+// Extends layers behind the nearer layers that hide them: every layer but
+// the nearest gets, at its hidden pixels within `extend_px` of its own
+// coverage, a push-pull fill of its unpremultiplied colour, depth and
+// positions, with alpha 1; so blurring a nearer layer away reveals a
+// plausible continuation instead of black or a hole.
+struct ExtendBehind {
+    double extend_px = 0.0;
+    // The farthest non-empty layer fills every hidden pixel of the frame
+    // (live-action plates: the background is everywhere).
+    bool farthest_fills_frame = false;
+    // A pixel is hidden when the nearer layers' accumulated alpha reaches
+    // this (deep renders: 0.999, fully occluded); 0 = any nearer coverage.
+    float occluder_alpha = 0.0f;
+};
+Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendBehind& options,
+                            const Exec& exec = {});
+
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
 // (float) and Z = depth of the nearest sample (NaN where there is none), over
 // the deep data window (display window, metadata, name and view kept).

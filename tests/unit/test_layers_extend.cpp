@@ -1,0 +1,106 @@
+// Layers extended behind the nearer layers that hide them (deep renders keep
+// only visible samples, so the background behind an opaque foreground is
+// missing until it is extended).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gdof/layers.h"
+
+using namespace gdof;
+
+namespace {
+
+// A deep image: a background wall at depth 10 (colour 0.2, 0.4, 0.6) with no
+// samples behind an opaque foreground square at depth 2 (x, y in [20, 30)),
+// and a semi-transparent foreground disc (alpha 0.5) over empty space at the
+// right (no background there at all).
+DeepImage scene() {
+    const Roi win{0, 0, 64, 48};
+    DeepImage d({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float},
+                 {"Z", PixelType::Float}},
+                win, win);
+    std::vector<std::uint32_t> counts(d.npixels(), 0);
+    auto square = [](int x, int y) { return x >= 20 && x < 30 && y >= 20 && y < 30; };
+    auto disc = [](int x, int y) { return std::hypot(x - 54.5, y - 10.5) < 5.0; };
+    auto wall = [](int x, int) { return x < 44; };
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) counts[d.pixel_index(x, y)] = (square(x, y) || disc(x, y) || wall(x, y)) ? 1 : 0;
+    d.set_sample_counts(counts);
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            if (!counts[d.pixel_index(x, y)]) continue;
+            const std::size_t k = d.first_sample(d.pixel_index(x, y));
+            float rgba[4] = {0.2f, 0.4f, 0.6f, 1.0f}, z = 10.0f;
+            if (square(x, y)) rgba[0] = 0.9f, rgba[1] = 0.1f, rgba[2] = 0.1f, z = 2.0f;
+            if (disc(x, y)) rgba[0] = 0.4f, rgba[1] = 0.4f, rgba[2] = 0.0f, rgba[3] = 0.5f, z = 2.0f;
+            for (int c = 0; c < 4; ++c) d.samples(c)[k] = rgba[c];
+            d.samples(4)[k] = z;
+        }
+    return d;
+}
+
+}  // namespace
+
+TEST(layers_extend, BackgroundContinuesBehindAnOpaqueForegroundOnly) {
+    const DeepImage d = scene();
+    LayerSplit split;
+    split.mode = LayerSplit::Mode::Auto;
+    auto layers = layers_from_deep(d, split);
+    ASSERT_TRUE(layers) << layers.message();
+    ASSERT_EQ(layers->size(), 2u);
+    const Image& bg_before = (*layers)[1].image;
+    EXPECT_FALSE(bg_before.data_window().contains(25, 25) && bg_before.at(3, 25, 25) > 0.0f);
+
+    ExtendBehind ext;
+    ext.extend_px = 8.0;
+    ext.occluder_alpha = 0.999f;
+    ASSERT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
+    const Image& fg = (*layers)[0].image;
+    const Image& bg = (*layers)[1].image;
+    // Behind the square: opaque wall colour and the wall's depth.
+    for (int y = 20; y < 30; ++y)
+        for (int x = 20; x < 30; ++x) {
+            ASSERT_TRUE(bg.data_window().contains(x, y));
+            EXPECT_EQ(bg.at(3, x, y), 1.0f);
+            EXPECT_NEAR(bg.at(0, x, y), 0.2f, 1e-5);
+            EXPECT_NEAR(bg.at(2, x, y), 0.6f, 1e-5);
+            EXPECT_NEAR(bg.at(4, x, y), 10.0f, 1e-4);
+        }
+    // Behind the half-transparent disc there is nothing to reveal: no background invented.
+    ASSERT_FALSE(bg.data_window().contains(54, 10) && bg.at(3, 54, 10) > 0.0f);
+    // The nearest layer is never extended.
+    EXPECT_EQ(fg.at(3, 25, 25), 1.0f);
+    EXPECT_EQ(fg.at(0, 25, 25), 0.9f);
+}
+
+TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
+    // A wide opaque foreground hides the wall's right part; the wall extends
+    // only extend_px behind it.
+    const Roi win{0, 0, 40, 8};
+    DeepImage d({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float},
+                 {"Z", PixelType::Float}},
+                win, win);
+    d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1));
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 40; ++x) {
+            const std::size_t k = d.first_sample(d.pixel_index(x, y));
+            const bool fg = x >= 10;
+            for (int c = 0; c < 3; ++c) d.samples(c)[k] = fg ? 1.0f : 0.5f;
+            d.samples(3)[k] = 1.0f;
+            d.samples(4)[k] = fg ? 1.0f : 9.0f;
+        }
+    LayerSplit split;
+    auto layers = layers_from_deep(d, split);
+    ASSERT_TRUE(layers) << layers.message();
+    ASSERT_EQ(layers->size(), 2u);
+    ExtendBehind ext;
+    ext.extend_px = 4.0;
+    ext.occluder_alpha = 0.999f;
+    ASSERT_TRUE(extend_layers_behind(*layers, win, ext));
+    const Image& bg = (*layers)[1].image;
+    EXPECT_EQ(bg.data_window().x1, 14);  // pixels 10..13 are within 4 px of x = 9
+    EXPECT_EQ(bg.at(3, 13, 4), 1.0f);
+    EXPECT_NEAR(bg.at(0, 13, 4), 0.5f, 1e-6);
+    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendBehind{-1.0, false, 0.0f}));
+}
