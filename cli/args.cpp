@@ -88,6 +88,23 @@ std::vector<CommandDef> make_table() {
     add({"--layers"}, "N|auto|id[:CHANNEL]", Kind::Modifier, D,
         "how --diffuse splits the input into layers: auto (depth clusters), N slices, or by a deep id channel");
     add({"--adi-steps"}, "K", Kind::Modifier, D, "ADI sub-steps per layer (default 0: automatic, up to 64)");
+
+    const std::string M = "Compositing from focus/aperture stacks (method 2)";
+    add({"--composite"}, "MANIFEST", Kind::Action, M,
+        "pull each pixel from the stack reference whose near/far best matches the desired one "
+        "(from --surfaces, --near-map/--far-map, or the top image's Z/P with --blurfield)", {0});
+    add({"--surfaces"}, "FILE", Kind::Modifier, M, "desired near/far focus surfaces (B-spline control grids, JSON)", {0});
+    add({"--near-map"}, "FILE", Kind::Modifier, M, "desired near depth per pixel (channel 'near', else Z, Y, first)", {0});
+    add({"--far-map"}, "FILE", Kind::Modifier, M, "desired far depth per pixel (channel 'far', else Z, Y, first)", {0});
+    add({"--soft"}, "K", Kind::Modifier, M, "blend the best K references by deviation (default 1: hard pick)");
+    add({"--aovs"}, "", Kind::Modifier, M, "--composite also writes stack.index and stack.deviation");
+
+    const std::string L = "Stacks from light fields (method 2)";
+    add({"--lightfield"}, "PATTERN|FOLDER", Kind::Action, L,
+        "light-field views, e.g. 'views/2067_%02d_%02d.png' (row, column) or a Stanford-archive folder; "
+        "the next -o (with ####) writes one refocused image per --stack reference and manifest.json");
+    add({"--lf"}, "FILE", Kind::Modifier, L, "light-field geometry JSON for --lightfield (disparity_at_infinity, ...)", {0});
+    add({"--stack"}, "FILE", Kind::Modifier, L, "stack JSON: the (focus, aperture) references to extract", {0});
     return t;
 }
 
@@ -98,6 +115,33 @@ bool looks_like_flag(const std::string& a) {
     errno = 0;
     std::strtod(a.c_str(), &end);
     return !(end && *end == '\0');
+}
+
+// The first -o after each --lightfield writes its stack; --lf and --stack
+// need a --lightfield (or, later, --render) to apply to.
+void mark_stack_outputs(Program& p) {
+    std::string pending, lf_flag, stack_flag;
+    bool any_lightfield = false;
+    for (Step& s : p.steps) {
+        const std::string& n = s.name();
+        if (n == "--lf") lf_flag = s.flag;
+        if (n == "--stack") stack_flag = s.flag;
+        if (n == "--lightfield") {
+            if (!pending.empty()) usage_error("--lightfield '" + pending + "': no -o writes its stack before the next --lightfield");
+            pending = s.args[0];
+            any_lightfield = true;
+        }
+        if (n == "-o" && !pending.empty()) {
+            if (stack_flag.empty())
+                usage_error("--lightfield '" + pending + "': give --stack stack.json (the references to extract) before -o");
+            s.stack_output = true;
+            pending.clear();
+        }
+    }
+    if (!pending.empty())
+        usage_error("--lightfield '" + pending + "': no -o follows it (e.g. -o stack/ref.####.exr)");
+    if (!any_lightfield && !lf_flag.empty()) usage_error(lf_flag + ": only used with --lightfield (none given)");
+    if (!any_lightfield && !stack_flag.empty()) usage_error(stack_flag + ": only used with --lightfield (none given)");
 }
 
 int parse_int(const std::string& flag, const std::string& v) {
@@ -116,6 +160,8 @@ void validate_structure(const Program& p) {
     bool pending_iscs = false;
     std::string pending_diffuse;  // a --diffuse modifier not yet followed by --diffuse
     bool any_action = false;
+    bool composite = false;
+    std::string composite_option;  // a --composite option (valid only with --composite)
     for (const Step& s : p.steps) {
         if (s.is_input()) {
             ++depth;
@@ -130,10 +176,16 @@ void validate_structure(const Program& p) {
             any_action = true;
         }
         if (n == "--info" || n == "--blurfield") any_action = true;
+        if (n == "--composite") ++depth, any_action = true, composite = true;  // pushes (or replaces) an image
+        if (n == "--lightfield") ++depth, any_action = true;  // its stack is written by the next -o
+        if (n == "--surfaces" || n == "--near-map" || n == "--far-map" || n == "--soft" || n == "--aovs")
+            composite_option = s.flag;
         if (n == "--iscolorspace") pending_iscs = true;
         if (n == "--solver" || n == "--layers" || n == "--adi-steps") pending_diffuse = s.flag;
         if (n == "--diffuse") pending_diffuse.clear();
     }
+    if (!composite_option.empty() && !composite)
+        usage_error(composite_option + ": only used with --composite (none given)");
     if (pending_iscs) usage_error("--iscolorspace: no input file follows it");
     if (!pending_diffuse.empty())
         usage_error(pending_diffuse + ": no --diffuse follows it (modifiers apply to the commands after them)");
@@ -247,6 +299,9 @@ std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exi
         } else if (n == "--layers") {
             auto r = parse_layer_split(s.args[0]);
             if (!r) usage_error(flag + ": " + r.message());
+        } else if (n == "--soft") {
+            const int k = parse_int(flag, s.args[0]);
+            if (k < 1 || k > 16) usage_error(flag + ": expected 1 (hard pick) to 16, got '" + s.args[0] + "'");
         } else if (n == "--adi-steps") {
             const int k = parse_int(flag, s.args[0]);
             if (k < 0 || k > 1000) usage_error(flag + ": expected 0 (automatic) to 1000, got '" + s.args[0] + "'");
@@ -257,6 +312,7 @@ std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exi
             if (v.empty() && n != "--compression") usage_error(flag + ": empty argument");
         p.steps.push_back(std::move(s));
     }
+    mark_stack_outputs(p);
     validate_structure(p);
     return p;
 }

@@ -9,6 +9,8 @@
 //   cmd_channels.cpp --ch, --mulc
 //   cmd_blur.cpp  --blurfield, --eval-blur (and the camera / field helpers)
 //   cmd_diffuse.cpp --diffuse (method 3: heat diffusion of layers)
+//   cmd_composite.cpp --composite (method 2: per-pixel pick from a focus/aperture stack)
+//   cmd_lightfield.cpp --lightfield, --lf, --stack (method 2: stacks extracted from a light field)
 //   progress.cpp  progress bar, frame counter, --stats timers
 //   signals.cpp   Ctrl-C -> cancel flag
 //   main.cpp      error reporting and exit codes
@@ -83,6 +85,9 @@ struct Step {
     const CommandDef* def = nullptr;  // nullptr: an input file
     std::string flag;                 // as typed
     std::vector<std::string> args;    // for an input: args[0] is the path
+    // -o writing a stack (one file per reference, after --lightfield): its
+    // frame pattern numbers the references, it is not a frame sequence.
+    bool stack_output = false;
     bool is_input() const { return def == nullptr; }
     const std::string& name() const;  // canonical name, or "input"
 };
@@ -223,6 +228,20 @@ struct Frame {
     LayerSplit layer_split;                         // --layers
     int adi_steps = 0;                              // --adi-steps (0: automatic)
 
+    // --composite (method 2) and its options, which may follow it
+    // (gdof --composite m.json --surfaces s.json): it runs before the next
+    // other step, or at the end.
+    struct CompositeOptions {
+        std::string manifest;  // pending --composite ("" none)
+        std::string surfaces, near_map, far_map;
+        int soft_k = 1;
+        bool aovs = false;
+    } composite;
+
+    // --lightfield (cmd_lightfield.cpp): the next -o writes its stack.
+    std::string lightfield;                       // pending light-field source ("" none)
+    std::string lightfield_config, stack_spec;    // --lf, --stack
+
     StackEntry& top(const std::string& flag);
 };
 
@@ -239,6 +258,13 @@ void do_mulc(Frame& f, const std::string& list);
 void do_blurfield(Frame& f, const std::string& path);
 void do_eval_blur(Frame& f);
 void do_diffuse(Frame& f);
+// --composite, --surfaces, --near-map, --far-map, --soft, --aovs: returns true
+// if `step` was one of them; otherwise (and for nullptr = end of the steps)
+// runs a pending --composite first and returns false (cmd_composite.cpp).
+bool composite_step(Frame& f, const Step* step);
+// -o after --lightfield: extracts the stack, writes one file per reference
+// (frame number = reference index from 1) and manifest.json (cmd_lightfield.cpp).
+void do_lightfield_output(Frame& f, const std::string& pattern);
 // Shared by --eval-blur and --diffuse (cmd_blur.cpp). Errors name `flag`.
 std::string image_name(const StackEntry& e);  // "'in.exr'" or "the top image"
 LensOverrides lens_overrides(const Frame& f);

@@ -33,7 +33,7 @@ std::vector<int> choose_frames(const Program& p, bool& is_sequence) {
     }
     // A pattern elsewhere (an output) needs a frame list.
     for (const Step& s : p.steps) {
-        if (s.is_input()) continue;
+        if (s.is_input() || s.stack_output) continue;  // a stack's pattern numbers references
         for (int k : s.def->file_args)
             if (io::has_frame_pattern(s.args[std::size_t(k)]))
                 usage_error(s.flag + " '" + s.args[std::size_t(k)] +

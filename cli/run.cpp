@@ -39,6 +39,7 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
     f.frame = frame;
     for (const Step& step : steps) {
         check_interrupted();
+        if (composite_step(f, &step)) continue;  // --composite and its options (cmd_composite.cpp)
         std::vector<std::string> args = step.args;
         if (step.is_input()) {
             do_input(f, substitute(args[0], frame));
@@ -46,7 +47,8 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         }
         for (int k : step.def->file_args) args[std::size_t(k)] = substitute(args[std::size_t(k)], frame);
         const std::string& n = step.name();
-        if (n == "-o") do_output(f, args[0]);
+        if (n == "-o" && step.stack_output) do_lightfield_output(f, step.args[0]);  // not a frame sequence
+        else if (n == "-o") do_output(f, args[0]);
         else if (n == "--info") do_info(f);
         else if (n == "--ch") do_ch(f, args[0]);
         else if (n == "--mulc") do_mulc(f, args[0]);
@@ -56,6 +58,9 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         else if (n == "-d") f.output_pixel_type = args[0];
         else if (n == "--compression") f.output_compression = args[0];
         else if (n == "--blurfield") do_blurfield(f, args[0]);
+        else if (n == "--lightfield") f.lightfield = args[0];
+        else if (n == "--lf") f.lightfield_config = args[0];
+        else if (n == "--stack") f.stack_spec = args[0];
         else if (n == "--eval-blur") do_eval_blur(f);
         else if (n == "--diffuse") do_diffuse(f);
         else if (n == "--solver") f.solver = take(parse_diffusion_solver(args[0].c_str()), step.flag);
@@ -76,6 +81,7 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         else
             runtime_error("internal: no handler for " + n);
     }
+    composite_step(f, nullptr);  // a --composite still waiting for its options runs now
 }
 
 }  // namespace gdof::cli

@@ -20,10 +20,14 @@
 //   }
 //
 // A reference's near/far are given explicitly, or computed from its thin lens
-// (focal length, f-number, focus distance, sensor width, width) for coc_px.
+// (focal length, f-number, focus distance, sensor width, width) for coc_px;
+// one may be explicit and the other computed. With both explicit,
+// focus_distance and f_number are optional.
 // Light-field stacks give them explicitly (from the light field's geometry)
 // and may record "focus_disparity" and "aperture_radius_views".
 // Relative file names are resolved against the manifest's folder.
+// "comment" (top level and per reference) and "source" (top level) are free
+// text; any other unknown key is an error naming it.
 #pragma once
 
 #include <cmath>
@@ -61,8 +65,9 @@ struct FocalStack {
 
 // Parses a manifest; errors name the key path ("references[3].f_number: ...").
 // Fills near/far from the thin lens where not given; rejects duplicate
-// (focus, aperture) entries, near > far, missing files in the list (only the
-// JSON is checked here: file existence is the reader's job).
+// (focus, aperture) entries (naming both), near > far, entries without a
+// "file" (only the JSON is checked here: file existence is the reader's job,
+// io::check_stack_files).
 Result<FocalStack> parse_stack_manifest(const std::string& json_text, const std::string& base_dir);
 // Serialises a stack (near/far always written; "inf" for an infinite far).
 std::string format_stack_manifest(const FocalStack& stack);
