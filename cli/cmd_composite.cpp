@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "gdof/io/stack_sources.h"
 #include "gdof/compositing.h"
 #include "gdof/focal_stack.h"
 #include "gdof/focus_surfaces.h"
@@ -66,9 +67,8 @@ void run_composite(Frame& f) {
 
     // The stack: every listed file must exist before any work.
     std::error_code ec;
-    const std::string text = read_text(flag, "manifest", mpath);
-    auto parsed = parse_stack_manifest(text, fs::absolute(fs::path(mpath), ec).parent_path().string());
-    if (!parsed) runtime_error(flag + " '" + mpath + "': " + parsed.message());
+    auto parsed = io::load_stack(mpath);  // listed references, or a pattern with attributes / a table
+    if (!parsed) runtime_error(flag + ": " + parsed.message());
     const FocalStack stack = std::move(parsed).value();
     check(io::check_stack_files(stack), flag + " '" + mpath + "'");
 

@@ -1,0 +1,216 @@
+#include "gdof/io/stack_sources.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gdof/io/sequence.h"
+
+namespace gdof::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+struct Header {
+    int width = 0, height = 0;
+    std::optional<double> focus_distance, f_number, focal_length_mm, sensor_width_mm;
+};
+
+Result<Header> read_header(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        std::string err = OIIO::geterror();
+        return Status::error("'" + path + "': cannot read the header" + (err.empty() ? "" : " (" + err + ")"));
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    Header h;
+    h.width = spec.full_width > 0 ? spec.full_width : spec.width;
+    h.height = spec.full_height > 0 ? spec.full_height : spec.height;
+    auto get = [&](const char* name) -> std::optional<double> {
+        const OIIO::ParamValue* p = spec.find_attribute(name);
+        if (!p) return std::nullopt;
+        if (p->type() == OIIO::TypeDesc::FLOAT) return double(p->get_float());
+        if (p->type() == OIIO::TypeDesc::INT) return double(p->get_int());
+        if (p->type().basetype == OIIO::TypeDesc::DOUBLE && p->type().aggregate == 1) return p->get<double>();
+        return std::nullopt;
+    };
+    h.focus_distance = get("focusDistance");
+    if (!h.focus_distance) h.focus_distance = get("focus");  // OpenEXR standard attribute
+    h.f_number = get("fNumber");
+    if (!h.f_number) h.f_number = get("aperture");
+    if (!h.f_number) h.f_number = get("FNumber");  // OIIO's name for EXR "aperture"
+    h.focal_length_mm = get("focalLength");
+    h.sensor_width_mm = get("sensorWidth");
+    in->close();
+    return h;
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+    std::vector<std::string> out;
+    std::string cur;
+    for (char c : line) {
+        if (c == ',') {
+            out.push_back(cur);
+            cur.clear();
+        } else if (c != '\r') {
+            cur += c;
+        }
+    }
+    out.push_back(cur);
+    for (auto& s : out) {
+        const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+        s = b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+    }
+    return out;
+}
+
+std::string resolve(const std::string& base, const std::string& p) {
+    return fs::path(p).is_absolute() || base.empty() ? p : (fs::path(base) / p).string();
+}
+
+Status expand_from_attributes(json& j, const std::string& base, const std::string& pattern) {
+    const std::string full = resolve(base, pattern);
+    auto frames = frames_on_disk(full);
+    if (!frames) return frames.status();
+    if (frames->empty()) return Status::error("pattern '" + pattern + "': no files on disk");
+    json refs = json::array();
+    for (int frame : *frames) {
+        auto file = expand_frame_pattern(pattern, frame);
+        if (!file) return file.status();
+        auto h = read_header(resolve(base, *file));
+        if (!h) return h.status();
+        if (!j.contains("width")) j["width"] = h->width;
+        if (!j.contains("height")) j["height"] = h->height;
+        json r;
+        r["file"] = *file;
+        if (!h->focus_distance) return Status::error("'" + *file + "': no focusDistance or focus attribute");
+        if (!h->f_number) return Status::error("'" + *file + "': no fNumber or aperture attribute");
+        r["focus_distance"] = *h->focus_distance;
+        r["f_number"] = *h->f_number;
+        if (h->focal_length_mm) r["focal_length_mm"] = *h->focal_length_mm;
+        if (h->sensor_width_mm) r["sensor_width_mm"] = *h->sensor_width_mm;
+        refs.push_back(r);
+    }
+    j["references"] = refs;
+    return Status::ok();
+}
+
+Status expand_from_table(json& j, const std::string& base, const std::string& pattern, const std::string& table) {
+    const std::string tpath = resolve(base, table);
+    std::ifstream in(tpath);
+    if (!in) return Status::error("table '" + tpath + "' not found");
+    std::string line;
+    std::vector<std::string> header;
+    json refs = json::array();
+    int lineno = 0;
+    static const char* kNumeric[] = {"focus_distance", "f_number", "focal_length_mm", "sensor_width_mm", "near", "far"};
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+        auto cells = split_csv_line(line);
+        if (header.empty()) {
+            header = cells;
+            bool has_key = false;
+            for (const auto& h : header) {
+                bool known = h == "frame" || h == "file";
+                for (const char* k : kNumeric) known = known || h == k;
+                if (!known)
+                    return Status::error("table '" + tpath + "': unknown column '" + h +
+                                         "' (known: frame, file, focus_distance, f_number, focal_length_mm, "
+                                         "sensor_width_mm, near, far)");
+                has_key = has_key || h == "frame" || h == "file";
+            }
+            if (!has_key) return Status::error("table '" + tpath + "': needs a 'frame' or 'file' column");
+            continue;
+        }
+        if (cells.size() != header.size())
+            return Status::error("table '" + tpath + "' line " + std::to_string(lineno) + ": " +
+                                 std::to_string(cells.size()) + " cells, the header has " + std::to_string(header.size()));
+        json r;
+        for (std::size_t c = 0; c < header.size(); ++c) {
+            const std::string& h = header[c];
+            const std::string where = "table '" + tpath + "' line " + std::to_string(lineno) + " column '" + h + "'";
+            if (h == "file") {
+                r["file"] = cells[c];
+                continue;
+            }
+            if (h == "far" && (cells[c] == "inf" || cells[c] == "infinity")) {
+                r["far"] = "inf";
+                continue;
+            }
+            std::size_t used = 0;
+            double v = 0;
+            try {
+                v = std::stod(cells[c], &used);
+            } catch (...) {
+                used = 0;
+            }
+            if (used == 0 || used != cells[c].size()) return Status::error(where + ": not a number: '" + cells[c] + "'");
+            if (h == "frame") {
+                if (pattern.empty()) return Status::error(where + ": a 'frame' column needs \"pattern\" in the manifest");
+                auto file = expand_frame_pattern(pattern, int(v));
+                if (!file) return file.status();
+                r["file"] = *file;
+            } else {
+                r[h] = v;
+            }
+        }
+        refs.push_back(r);
+    }
+    if (refs.empty()) return Status::error("table '" + tpath + "': no rows");
+    if (!j.contains("width") || !j.contains("height")) {
+        auto h = read_header(resolve(base, refs[0]["file"].get<std::string>()));
+        if (!h) return h.status();
+        if (!j.contains("width")) j["width"] = h->width;
+        if (!j.contains("height")) j["height"] = h->height;
+    }
+    j["references"] = refs;
+    return Status::ok();
+}
+
+}  // namespace
+
+Result<FocalStack> load_stack(const std::string& manifest_path) {
+    std::ifstream in(manifest_path, std::ios::binary);
+    if (!in) return Status::error("stack manifest '" + manifest_path + "' not found");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::error_code ec;
+    const std::string base = fs::absolute(fs::path(manifest_path), ec).parent_path().string();
+    json j;
+    try {
+        j = json::parse(ss.str());
+    } catch (const json::exception& e) {
+        return Status::error("stack manifest '" + manifest_path + "': " + e.what());
+    }
+    if (j.is_object() && (j.contains("pattern") || j.contains("table") || j.contains("lens_from"))) {
+        if (j.contains("references"))
+            return Status::error("stack manifest '" + manifest_path + "': give \"references\" or \"pattern\"/\"table\", not both");
+        const std::string pattern = j.value("pattern", std::string());
+        const std::string lens_from = j.value("lens_from", std::string(j.contains("table") ? "table" : "attributes"));
+        Status st;
+        if (lens_from == "attributes" && !j.contains("table")) {
+            if (pattern.empty()) return Status::error("stack manifest '" + manifest_path + "': \"lens_from\": \"attributes\" needs \"pattern\"");
+            st = expand_from_attributes(j, base, pattern);
+        } else if (j.contains("table") && j["table"].is_string()) {
+            st = expand_from_table(j, base, pattern, j["table"].get<std::string>());
+        } else {
+            return Status::error("stack manifest '" + manifest_path + "': \"lens_from\" must be \"attributes\", or give a \"table\" (CSV file)");
+        }
+        if (!st) return st.prefix("stack manifest '" + manifest_path + "'");
+        for (const char* k : {"pattern", "table", "lens_from"}) j.erase(k);
+    }
+    auto stack = parse_stack_manifest(j.dump(), base);
+    if (!stack) return stack.status().prefix("'" + manifest_path + "'");
+    return stack;
+}
+
+}  // namespace gdof::io
