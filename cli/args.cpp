@@ -62,6 +62,19 @@ std::vector<CommandDef> make_table() {
     add({"--ch"}, "LIST", Kind::Action, O, "keep/rename channels: R,G,B or Y=blur or A=1.0 (as oiiotool)");
     add({"--mulc"}, "F[,F...]", Kind::Action, O, "multiply float channels by one factor or one per channel");
 
+    const std::string R = "Render (method 1: ray tracing)";
+    add({"--render"}, "SCENE", Kind::Action, R,
+        "ray-trace a scene JSON (docs/scene.md): beauty + albedo, Z, P, N, id; lens from --blurfield or the scene camera",
+        {0});
+    add({"--spp"}, "N", Kind::Modifier, R, "--render: aperture samples per pixel, the cap (default 64)");
+    add({"--min-spp"}, "N", Kind::Modifier, R, "--render: samples every pixel gets before adaptive stopping (default 4)");
+    add({"--adaptive-threshold"}, "E", Kind::Modifier, R,
+        "--render: stop a pixel when its luminance standard error <= E * mean (default 0.01; 0: always --spp)");
+    add({"--light-samples"}, "N", Kind::Modifier, R, "--render: area-light samples per hit (default 2)");
+    add({"--pinhole"}, "", Kind::Modifier, R, "--render: all in focus (pinhole camera), ignoring the lens");
+    add({"--straight-thin-lens"}, "", Kind::Modifier, R,
+        "--render: trace the scene's thin lens with straight rays (reference for the polyline camera)");
+
     add({"--blurfield"}, "FILE", Kind::Action, B, "load a blur-field JSON (thin_lens, focal_planes, region, ...)", {0});
     add({"--eval-blur"}, "", Kind::Action, B,
         "add a float channel 'blur' (CoC radius in output pixels) from P, or Z + camera");
@@ -176,6 +189,7 @@ void validate_structure(const Program& p) {
             any_action = true;
         }
         if (n == "--info" || n == "--blurfield") any_action = true;
+        if (n == "--render") ++depth, any_action = true;  // pushes the rendered image
         if (n == "--composite") ++depth, any_action = true, composite = true;  // pushes (or replaces) an image
         if (n == "--lightfield") ++depth, any_action = true;  // its stack is written by the next -o
         if (n == "--surfaces" || n == "--near-map" || n == "--far-map" || n == "--soft" || n == "--aovs")

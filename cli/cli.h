@@ -10,6 +10,7 @@
 //   cmd_blur.cpp  --blurfield, --eval-blur (and the camera / field helpers)
 //   cmd_diffuse.cpp --diffuse (method 3: heat diffusion of layers)
 //   cmd_composite.cpp --composite (method 2: per-pixel pick from a focus/aperture stack)
+//   cmd_render.cpp --render (method 1: ray tracing a scene)
 //   cmd_lightfield.cpp --lightfield, --lf, --stack (method 2: stacks extracted from a light field)
 //   progress.cpp  progress bar, frame counter, --stats timers
 //   signals.cpp   Ctrl-C -> cancel flag
@@ -242,6 +243,14 @@ struct Frame {
     std::string lightfield;                       // pending light-field source ("" none)
     std::string lightfield_config, stack_spec;    // --lf, --stack
 
+    // --render (method 1) and its options; it runs before the next other step.
+    struct RenderOptions {
+        std::string scene;  // pending --render ("" none)
+        int spp = 64, min_spp = 4, light_samples = 2;
+        double adaptive_threshold = 0.01;
+        bool pinhole = false, straight_thin_lens = false;
+    } render;
+
     StackEntry& top(const std::string& flag);
 };
 
@@ -262,6 +271,10 @@ void do_diffuse(Frame& f);
 // if `step` was one of them; otherwise (and for nullptr = end of the steps)
 // runs a pending --composite first and returns false (cmd_composite.cpp).
 bool composite_step(Frame& f, const Step* step);
+// --render and its options (--spp, --min-spp, --pinhole, ...): returns true
+// if `step` was one of them; otherwise (and for nullptr = end of the steps)
+// runs a pending --render first, except before --blurfield (cmd_render.cpp).
+bool render_step(Frame& f, const Step* step);
 // -o after --lightfield: extracts the stack, writes one file per reference
 // (frame number = reference index from 1) and manifest.json (cmd_lightfield.cpp).
 void do_lightfield_output(Frame& f, const std::string& pattern);

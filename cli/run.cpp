@@ -39,6 +39,7 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
     f.frame = frame;
     for (const Step& step : steps) {
         check_interrupted();
+        if (render_step(f, &step)) continue;        // --render and its options (cmd_render.cpp)
         if (composite_step(f, &step)) continue;  // --composite and its options (cmd_composite.cpp)
         std::vector<std::string> args = step.args;
         if (step.is_input()) {
@@ -81,6 +82,7 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
         else
             runtime_error("internal: no handler for " + n);
     }
+    render_step(f, nullptr);     // a --render still waiting for its options runs now
     composite_step(f, nullptr);  // a --composite still waiting for its options runs now
 }
 

@@ -1,0 +1,210 @@
+// Aperture samples: per-pixel seeds, scrambled 2D Sobol points, and the maps
+// from the unit square to the aperture shapes (disc, polygon, mask image).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "gdof/lens_rays.h"
+
+namespace gdof {
+
+namespace {
+
+std::uint64_t mix64(std::uint64_t z) {
+    // A 64-bit finaliser (xor-shift / multiply rounds).
+    z ^= z >> 30;
+    z *= 0xbf58476d1ce4e5b9ull;
+    z ^= z >> 27;
+    z *= 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return z;
+}
+
+std::uint32_t reverse_bits(std::uint32_t x) {
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+// A hash where output bit j depends only on input bits <= j (additions and
+// multiplications carry upwards only, x ^= x * even keeps bit j a function of
+// the bits below it). Applied to bit-reversed values it is a nested uniform
+// (Owen) scramble: each bit is flipped by a function of the more significant
+// bits only.
+std::uint32_t upward_hash(std::uint32_t x, std::uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+    return reverse_bits(upward_hash(reverse_bits(x), seed));
+}
+
+// Second Sobol dimension (primitive polynomial x + 1): direction numbers
+// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1) (Pascal's triangle mod 2).
+std::uint32_t sobol_dim1(std::uint32_t index) {
+    std::uint32_t r = 0;
+    std::uint32_t v = 0x80000000u;
+    for (; index; index >>= 1, v ^= v >> 1)
+        if (index & 1u) r ^= v;
+    return r;
+}
+
+double to_unit(std::uint32_t x) {
+    // 32 bits -> [0, 1): exact in double, never 1.
+    return double(x) * (1.0 / 4294967296.0);
+}
+
+}  // namespace
+
+std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed) {
+    std::uint64_t h = mix64(global_seed ^ 0x9e3779b97f4a7c15ull);
+    h = mix64(h ^ std::uint64_t(std::uint32_t(x)));
+    h = mix64(h ^ (std::uint64_t(std::uint32_t(y)) << 32) ^ 0x632be59bd9b4e019ull);
+    return h;
+}
+
+Vec2 unit_square_sample(std::uint64_t seed, std::uint32_t index) {
+    const std::uint64_t s1 = mix64(seed + 0x1);
+    const std::uint64_t s2 = mix64(seed + 0x2);
+    // Shuffle the order: an Owen scramble of the index permutes aligned
+    // blocks of 2^k indices among themselves, so each prefix of 2^k samples
+    // is still an aligned block of the (0,2)-sequence, a (0,k,2)-net.
+    const std::uint32_t i = owen_scramble(index, std::uint32_t(seed) ^ std::uint32_t(seed >> 32));
+    const std::uint32_t a = owen_scramble(reverse_bits(i), std::uint32_t(s1));
+    const std::uint32_t b = owen_scramble(sobol_dim1(i), std::uint32_t(s2));
+    return {to_unit(a), to_unit(b)};
+}
+
+void unit_square_samples(std::uint64_t seed, std::uint32_t first, std::span<Vec2> out) {
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = unit_square_sample(seed, first + std::uint32_t(k));
+}
+
+Vec2 concentric_disc(Vec2 unit) {
+    const double a = 2.0 * unit.x - 1.0, b = 2.0 * unit.y - 1.0;
+    if (a == 0.0 && b == 0.0) return {0.0, 0.0};
+    constexpr double q = std::numbers::pi / 4.0;
+    double r, phi;
+    if (std::fabs(a) > std::fabs(b)) {
+        r = a;
+        phi = q * (b / a);
+    } else {
+        r = b;
+        phi = 2.0 * q - q * (a / b);
+    }
+    return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+ApertureShape ApertureShape::disc() { return ApertureShape(); }
+
+Result<ApertureShape> ApertureShape::polygon(int blades, double rotation_deg) {
+    if (blades < 3) return Status::error("aperture polygon: blades must be >= 3, got " + std::to_string(blades));
+    if (!std::isfinite(rotation_deg))
+        return Status::error("aperture polygon: rotation must be finite, got " + std::to_string(rotation_deg));
+    ApertureShape s;
+    s.kind_ = Kind::Polygon;
+    s.blades_ = blades;
+    s.rotation_rad_ = rotation_deg * std::numbers::pi / 180.0;
+    return s;
+}
+
+Result<ApertureShape> ApertureShape::mask(const Image& image, int channel) {
+    if (image.data_window().empty()) return Status::error("aperture mask: the image is empty");
+    if (channel < 0) {
+        channel = image.channel_index("A");
+        if (channel < 0) channel = 0;
+    }
+    if (channel >= image.nchannels())
+        return Status::error("aperture mask: channel " + std::to_string(channel) + " out of range (image has " +
+                             std::to_string(image.nchannels()) + ")");
+    const Roi dw = image.data_window();
+    const int w = dw.width(), h = dw.height();
+    ApertureShape s;
+    s.kind_ = Kind::Mask;
+    s.mask_w_ = w;
+    s.mask_h_ = h;
+    s.row_cdf_.assign(std::size_t(h) + 1, 0.0);
+    s.col_cdf_.assign(std::size_t(h) * std::size_t(w + 1), 0.0);
+    for (int y = 0; y < h; ++y) {
+        double* row = &s.col_cdf_[std::size_t(y) * std::size_t(w + 1)];
+        for (int x = 0; x < w; ++x) {
+            const double v = image.sample(channel, dw.x0 + x, dw.y0 + y);
+            if (!std::isfinite(v))
+                return Status::error("aperture mask: non-finite value at pixel (" + std::to_string(dw.x0 + x) + ", " +
+                                     std::to_string(dw.y0 + y) + ") of channel '" + image.channel(channel).name + "'");
+            row[x + 1] = row[x] + std::max(0.0, v);
+        }
+        s.row_cdf_[std::size_t(y) + 1] = s.row_cdf_[std::size_t(y)] + row[w];
+    }
+    const double total = s.row_cdf_.back();
+    if (!(total > 0))
+        return Status::error("aperture mask: channel '" + image.channel(channel).name + "' has no positive value");
+    s.mask_scale_ = 2.0 / double(std::max(w, h));
+    s.mask_area_ = total * s.mask_scale_ * s.mask_scale_;  // weighted: full pixels count 1
+    return s;
+}
+
+double ApertureShape::area() const {
+    switch (kind_) {
+        case Kind::Disc: return std::numbers::pi;
+        case Kind::Polygon: return 0.5 * blades_ * std::sin(2.0 * std::numbers::pi / blades_);
+        case Kind::Mask: return mask_area_;
+    }
+    return 0.0;
+}
+
+namespace {
+
+// Inverts a cumulative table c[0..n] (c[0] = 0, nondecreasing) at t in
+// [0, c[n]): index k with c[k] <= t < c[k+1] (skipping empty cells) and the
+// fraction inside that cell.
+std::pair<int, double> invert_cdf(const double* c, int n, double t) {
+    int k = int(std::upper_bound(c, c + n + 1, t) - c) - 1;
+    k = std::clamp(k, 0, n - 1);
+    while (k < n - 1 && !(c[k + 1] > c[k])) ++k;  // t at the end of a run of empty cells
+    while (k > 0 && !(c[k + 1] > c[k])) --k;
+    const double width = c[k + 1] - c[k];
+    const double f = width > 0 ? std::clamp((t - c[k]) / width, 0.0, std::nextafter(1.0, 0.0)) : 0.5;
+    return {k, f};
+}
+
+}  // namespace
+
+Vec2 ApertureShape::map(Vec2 unit) const {
+    switch (kind_) {
+        case Kind::Disc: return concentric_disc(unit);
+        case Kind::Polygon: {
+            // Pick the fan triangle (centre, vertex k, vertex k+1) with u, reuse
+            // the remainder; uniform inside the triangle with the square root.
+            const double t = unit.x * blades_;
+            const int k = std::min(int(t), blades_ - 1);
+            const double a = t - k;
+            const double step = 2.0 * std::numbers::pi / blades_;
+            const double th0 = rotation_rad_ + k * step, th1 = th0 + step;
+            const double r = std::sqrt(a);
+            const double b = unit.y;
+            return {r * ((1.0 - b) * std::cos(th0) + b * std::cos(th1)),
+                    r * ((1.0 - b) * std::sin(th0) + b * std::sin(th1))};
+        }
+        case Kind::Mask: {
+            const double total = row_cdf_.back();
+            const auto [y, fy] = invert_cdf(row_cdf_.data(), mask_h_, unit.y * total);
+            const double* row = &col_cdf_[std::size_t(y) * std::size_t(mask_w_ + 1)];
+            const auto [x, fx] = invert_cdf(row, mask_w_, unit.x * row[mask_w_]);
+            // Pixel (x, y) of the data window, centred in [-1, 1]^2, y down -> -v.
+            const double mx = (x + fx) - 0.5 * mask_w_;
+            const double my = (y + fy) - 0.5 * mask_h_;
+            return {mx * mask_scale_, -my * mask_scale_};
+        }
+    }
+    return {};
+}
+
+}  // namespace gdof
