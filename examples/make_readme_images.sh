@@ -21,4 +21,8 @@ mkdir -p "$img"
         --ch R,G,B -o "$img/diffusion_two_planes.png"
 "$gdof" "$tmp/deep.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --diffuse \
         --ch R,G,B -o "$img/diffusion_sphere_from_deep.png"
+# Method 1 (nonlinear ray tracing): the generated render scene with two focal planes.
+"$gdof" --render "$root/examples/render/generated.json" --blurfield "$root/examples/render/generated_two_planes.json" \
+        --spp 32 -o "$tmp/render.exr"
+"$gdof" "$tmp/render.exr" --ch R,G,B -o "$img/raytrace_two_planes.png"
 echo "wrote $(ls "$img")" >&2
