@@ -66,7 +66,6 @@ void run_composite(Frame& f) {
     const auto t_start = std::chrono::steady_clock::now();
 
     // The stack: every listed file must exist before any work.
-    std::error_code ec;
     auto parsed = io::load_stack(mpath);  // listed references, or a pattern with attributes / a table
     if (!parsed) runtime_error(flag + ": " + parsed.message());
     const FocalStack stack = std::move(parsed).value();

@@ -13,36 +13,16 @@
 #include <vector>
 
 #include "blur_field_nodes.h"
+#include "json_util.h"
 
 namespace gdof {
 
 namespace {
 
-using json = nlohmann::json;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct ParseError {
-    std::string message;
-};
-
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw ParseError{path + ": " + what}; }
-
-std::string num_str(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
-
-std::string type_name(const json& j) {
-    if (j.is_string()) return "string \"" + j.get<std::string>() + "\"";
-    return j.type_name();
-}
-
-std::string join(const std::vector<std::string>& v) {
-    std::string s;
-    for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
-    return s;
-}
+using namespace json_util;
+const auto& num_str = format_number;
 
 // One JSON object being read: checks key names up front and types/values per key.
 class Obj {
@@ -367,7 +347,7 @@ Result<BlurField> BlurField::parse(std::string_view text, const Context& ctx) {
         bf::NodePtr root = p.node(top.at("blurfield"), "blurfield");
         if (std::isfinite(max_radius)) root = bf::make_clamp(std::move(root), 0.0, max_radius);
         return BlurField(std::move(root), max_radius);
-    } catch (const ParseError& e) {
+    } catch (const JsonError& e) {
         return Status::error(e.message);
     } catch (const json::exception& e) {
         return Status::error(std::string("blur field JSON: ") + e.what());

@@ -13,30 +13,16 @@
 
 #include "gdof/camera.h"
 #include "gdof/focal_stack.h"
+#include "json_util.h"
 
 namespace gdof {
 
 namespace {
 
-using json = nlohmann::json;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct ManifestError {
-    std::string message;
-};
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw ManifestError{path + ": " + what}; }
-
-std::string num(double v) {
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
-
-std::string type_name(const json& j) {
-    if (j.is_string()) return "string \"" + j.get<std::string>() + "\"";
-    return j.type_name();
-}
+using namespace json_util;
+const auto& num = format_number;
 
 void allow_only(const json& j, const std::string& path, const std::vector<std::string>& keys) {
     for (auto it = j.begin(); it != j.end(); ++it)
@@ -219,7 +205,7 @@ Result<FocalStack> parse_stack_manifest(const std::string& text, const std::stri
             s.references.push_back(parse_reference(refs[i], "references[" + std::to_string(i) + "]", s));
         check_duplicates(s);
         return s;
-    } catch (const ManifestError& e) {
+    } catch (const JsonError& e) {
         return Status::error("stack manifest: " + e.message);
     }
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gdof/focus_surfaces.h"
+#include "json_util.h"
 
 namespace gdof {
 
@@ -65,15 +66,7 @@ void prefilter_line(double* d, int n, std::ptrdiff_t stride) {
     for (int i = 1; i <= n - 2; ++i) d[i * stride] = r[std::size_t(i)];
 }
 
-struct SurfaceError {
-    std::string message;
-};
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw SurfaceError{path + ": " + what}; }
-
-std::string type_name(const nlohmann::json& j) {
-    if (j.is_string()) return "string \"" + j.get<std::string>() + "\"";
-    return j.type_name();
-}
+using namespace json_util;
 
 double depth_value(const nlohmann::json& v, const std::string& path) {
     if (v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "infinity")) return kInf;
@@ -216,7 +209,7 @@ Result<FocusSurfaces> parse_focus_surfaces(const std::string& text) {
         s.near = parse_surface(j["near"], "near", interpolate);
         s.far = parse_surface(j["far"], "far", interpolate);
         return s;
-    } catch (const SurfaceError& e) {
+    } catch (const JsonError& e) {
         return Status::error("surfaces: " + e.message);
     }
 }

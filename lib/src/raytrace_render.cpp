@@ -159,9 +159,17 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
     const double kNaN = std::numeric_limits<double>::quiet_NaN();
     const auto t0 = std::chrono::steady_clock::now();
 
+    // A depth-only field (thin_lens, focal_planes, ...) has the same cone at
+    // every pixel: sample the field once and only move the central ray per pixel.
+    std::optional<PixelCone> shared_cone;
+    if (setup.mode == Mode::Polyline && setup.ncam->depth_only()) {
+        PixelCone c;
+        if (setup.ncam->prepare(disp.x0 + 0.5, disp.y0 + 0.5, c)) shared_cone = std::move(c);
+    }
+
     auto body = [&](long tb, long te) {
         set_ftz_daz();
-        PixelCone cone;
+        PixelCone cone = shared_cone ? *shared_cone : PixelCone{};
         PolylineRay poly;
         for (long tile = tb; tile < te; ++tile) {
             if (exec.is_cancelled()) return;
@@ -174,7 +182,9 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
                     const std::uint64_t seed = pixel_seed(x, y, settings.seed);
                     const std::uint64_t jitter_seed = rt::mix64(seed ^ 0x6a09e667f3bcc909ull);
                     const std::uint64_t pixel_key = rt::hash(std::uint64_t(std::uint32_t(x)), std::uint32_t(y));
-                    if (setup.mode == Mode::Polyline) {
+                    if (setup.mode == Mode::Polyline && shared_cone) {
+                        setup.ncam->retarget(cone, pcx, pcy);
+                    } else if (setup.mode == Mode::Polyline) {
                         Status st = setup.ncam->prepare(pcx, pcy, cone);
                         if (!st) cone.pinhole = true, cone.central = cam.central_ray(pcx, pcy);
                     }

@@ -11,19 +11,15 @@
 #include <nlohmann/json.hpp>
 
 #include "gdof/scene.h"
+#include "json_util.h"
 
 namespace gdof {
 
 namespace {
 
-using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-// Thrown inside this file only; turned into a Status at the API boundary.
-struct ParseError {
-    std::string message;
-};
-[[noreturn]] void fail(const std::string& key, const std::string& what) { throw ParseError{key + ": " + what}; }
+using namespace json_util;
 
 void check_keys(const json& j, const std::string& key, const std::set<std::string>& allowed) {
     if (!j.is_object()) fail(key, "must be an object");
@@ -312,7 +308,7 @@ Result<Scene> parse_scene(std::string_view json_text, const std::string& base_di
     b.base_dir = base_dir;
     try {
         b.parse(root);
-    } catch (const ParseError& e) {
+    } catch (const JsonError& e) {
         return Status::error(source + ": " + e.message);
     } catch (const json::exception& e) {
         return Status::error(source + ": " + e.what());
