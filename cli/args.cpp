@@ -15,6 +15,9 @@ namespace gdof::cli {
 
 namespace {
 
+// The last command added may also be given as --flag=VALUE (its optional argument).
+void table_back_optional_value(std::vector<CommandDef>& t) { t.back().optional_value = true; }
+
 std::vector<CommandDef> make_table() {
     std::vector<CommandDef> t;
     auto add = [&](std::vector<std::string> names, std::string args, Kind kind, std::string group, std::string help,
@@ -74,6 +77,12 @@ std::vector<CommandDef> make_table() {
     add({"--pinhole"}, "", Kind::Modifier, R, "--render: all in focus (pinhole camera), ignoring the lens");
     add({"--straight-thin-lens"}, "", Kind::Modifier, R,
         "--render: trace the scene's thin lens with straight rays (reference for the polyline camera)");
+    add({"--deep"}, "", Kind::Modifier, R,
+        "--render: write a deep image instead (one sample per surface seen in a pixel: the input method 3 wants)");
+    add({"--stack"}, "FILE", Kind::Modifier, R,
+        "stack JSON: after --render, the focus distances x f-numbers to render; with --lightfield, the "
+        "(focus, aperture) references to extract; the next -o (with ####) writes one image per reference + manifest.json",
+        {0});
 
     add({"--blurfield"}, "FILE", Kind::Action, B, "load a blur-field JSON (thin_lens, focal_planes, region, ...)", {0});
     add({"--eval-blur"}, "", Kind::Action, B,
@@ -110,14 +119,17 @@ std::vector<CommandDef> make_table() {
     add({"--near-map"}, "FILE", Kind::Modifier, M, "desired near depth per pixel (channel 'near', else Z, Y, first)", {0});
     add({"--far-map"}, "FILE", Kind::Modifier, M, "desired far depth per pixel (channel 'far', else Z, Y, first)", {0});
     add({"--soft"}, "K", Kind::Modifier, M, "blend the best K references by deviation (default 1: hard pick)");
-    add({"--aovs"}, "", Kind::Modifier, M, "--composite also writes stack.index and stack.deviation");
+    add({"--aovs"}, "", Kind::Modifier, M,
+        "--composite also writes stack.index and stack.deviation; after --render, --aovs=LIST picks the AOVs "
+        "(albedo,Z,P,N,id | all | none; default all)");
+    table_back_optional_value(t);
 
     const std::string L = "Stacks from light fields (method 2)";
     add({"--lightfield"}, "PATTERN|FOLDER", Kind::Action, L,
         "light-field views, e.g. 'views/2067_%02d_%02d.png' (row, column) or a Stanford-archive folder; "
         "the next -o (with ####) writes one refocused image per --stack reference and manifest.json");
     add({"--lf"}, "FILE", Kind::Modifier, L, "light-field geometry JSON for --lightfield (disparity_at_infinity, ...)", {0});
-    add({"--stack"}, "FILE", Kind::Modifier, L, "stack JSON: the (focus, aperture) references to extract", {0});
+    // --stack (above, Render) also names the references a --lightfield extracts.
     return t;
 }
 
@@ -130,15 +142,19 @@ bool looks_like_flag(const std::string& a) {
     return !(end && *end == '\0');
 }
 
-// The first -o after each --lightfield writes its stack; --lf and --stack
-// need a --lightfield (or, later, --render) to apply to.
+// The first -o after each --lightfield writes its stack, and so does the -o
+// after a --render given --stack (between the two). --lf and a --stack not
+// after a --render need a --lightfield to apply to.
 void mark_stack_outputs(Program& p) {
     std::string pending, lf_flag, stack_flag;
     bool any_lightfield = false;
+    bool render_pending = false, render_stack = false;
     for (Step& s : p.steps) {
         const std::string& n = s.name();
         if (n == "--lf") lf_flag = s.flag;
-        if (n == "--stack") stack_flag = s.flag;
+        if (n == "--stack" && render_pending) render_stack = true;
+        else if (n == "--stack") stack_flag = s.flag;
+        if (n == "--render") render_pending = true, render_stack = false;
         if (n == "--lightfield") {
             if (!pending.empty()) usage_error("--lightfield '" + pending + "': no -o writes its stack before the next --lightfield");
             pending = s.args[0];
@@ -149,12 +165,17 @@ void mark_stack_outputs(Program& p) {
                 usage_error("--lightfield '" + pending + "': give --stack stack.json (the references to extract) before -o");
             s.stack_output = true;
             pending.clear();
+        } else if (n == "-o" && render_stack) {
+            s.stack_output = true;
         }
+        if (n == "-o") render_pending = render_stack = false;
     }
     if (!pending.empty())
         usage_error("--lightfield '" + pending + "': no -o follows it (e.g. -o stack/ref.####.exr)");
+    if (render_stack) usage_error("--render --stack: no -o follows it (e.g. -o stack/ref.####.exr)");
     if (!any_lightfield && !lf_flag.empty()) usage_error(lf_flag + ": only used with --lightfield (none given)");
-    if (!any_lightfield && !stack_flag.empty()) usage_error(stack_flag + ": only used with --lightfield (none given)");
+    if (!any_lightfield && !stack_flag.empty())
+        usage_error(stack_flag + ": only used with --lightfield or after --render (neither given)");
 }
 
 int parse_int(const std::string& flag, const std::string& v) {
@@ -175,6 +196,7 @@ void validate_structure(const Program& p) {
     bool any_action = false;
     bool composite = false;
     std::string composite_option;  // a --composite option (valid only with --composite)
+    bool after_render = false;     // a --render not yet followed by -o: --aovs is its option
     for (const Step& s : p.steps) {
         if (s.is_input()) {
             ++depth;
@@ -189,11 +211,14 @@ void validate_structure(const Program& p) {
             any_action = true;
         }
         if (n == "--info" || n == "--blurfield") any_action = true;
-        if (n == "--render") ++depth, any_action = true;  // pushes the rendered image
+        if (n == "--render") ++depth, any_action = true, after_render = true;  // pushes the rendered image
+        if (n == "-o") after_render = false;
         if (n == "--composite") ++depth, any_action = true, composite = true;  // pushes (or replaces) an image
         if (n == "--lightfield") ++depth, any_action = true;  // its stack is written by the next -o
-        if (n == "--surfaces" || n == "--near-map" || n == "--far-map" || n == "--soft" || n == "--aovs")
+        if (n == "--surfaces" || n == "--near-map" || n == "--far-map" || n == "--soft" ||
+            (n == "--aovs" && !after_render))
             composite_option = s.flag;
+        if (n == "--deep" && !after_render) usage_error(s.flag + ": a --render option: give it after --render");
         if (n == "--iscolorspace") pending_iscs = true;
         if (n == "--solver" || n == "--layers" || n == "--adi-steps") pending_diffuse = s.flag;
         if (n == "--diffuse") pending_diffuse.clear();
@@ -260,7 +285,7 @@ std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exi
         s.def = def;
         s.flag = flag;
         if (has_inline) {
-            if (def->nargs != 1) usage_error(flag + " does not take '=VALUE'");
+            if (def->nargs != 1 && !def->optional_value) usage_error(flag + " does not take '=VALUE'");
             s.args.push_back(inline_value);
         } else {
             for (int k = 0; k < def->nargs; ++k) {

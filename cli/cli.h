@@ -31,6 +31,8 @@
 #include "gdof/camera.h"
 #include "gdof/diffusion.h"
 #include "gdof/exec.h"
+#include "gdof/focal_stack.h"
+#include "gdof/io/image_io.h"
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
 #include "gdof/layers.h"
@@ -76,6 +78,7 @@ struct CommandDef {
     std::string help;   // one line
     // Which of the arguments are file names (get frame substitution).
     std::vector<int> file_args;
+    bool optional_value = false;  // a no-argument flag that also takes --flag=VALUE (--aovs)
 };
 const std::vector<CommandDef>& command_table();
 const CommandDef* find_command(const std::string& name);
@@ -249,6 +252,9 @@ struct Frame {
         int spp = 64, min_spp = 4, light_samples = 2;
         double adaptive_threshold = 0.01;
         bool pinhole = false, straight_thin_lens = false;
+        bool deep = false;         // --deep: a deep image (for method 3)
+        unsigned aovs = 0x1fu;     // --aovs=LIST (kAovAll)
+        std::string stack_spec;    // --stack after --render: the next -o writes a stack
     } render;
 
     StackEntry& top(const std::string& flag);
@@ -259,6 +265,8 @@ void run_steps(Session& session, const std::vector<Step>& steps, std::optional<i
 
 // Command implementations (each file registers its part of the table in args.cpp).
 void do_input(Frame& f, const std::string& path);
+// A whole text file (JSON); errors "FLAG: WHAT 'path' not found" (cmd_io.cpp).
+std::string read_text(const std::string& flag, const std::string& what, const std::string& path);
 void do_output(Frame& f, const std::string& path);
 void do_info(Frame& f);
 void do_colorconvert(Frame& f, const std::string& from, const std::string& to);
@@ -278,6 +286,28 @@ bool render_step(Frame& f, const Step* step);
 // -o after --lightfield: extracts the stack, writes one file per reference
 // (frame number = reference index from 1) and manifest.json (cmd_lightfield.cpp).
 void do_lightfield_output(Frame& f, const std::string& pattern);
+// -o after --render ... --stack: renders the focus/aperture stack (cmd_render.cpp).
+void do_render_stack_output(Frame& f, const std::string& pattern);
+
+// A stack's files (stack_output.cpp): -o's frame pattern numbers the
+// references from 1, all in one folder; manifest.json beside them is written
+// last and atomically. `producer` names the command in errors.
+void check_stack_pattern(const std::string& pattern, const std::string& producer);
+class StackOutput {
+public:
+    StackOutput(Frame& f, const std::string& pattern, std::size_t n_references);
+    void create_folder() const;  // before the first write (after planning: bad specs write nothing)
+    Status write(std::size_t index, Image&& image) const;  // with -d, --compression, --ocolorspace
+    void write_manifest(FocalStack stack) const;            // file names filled in; throws CliError
+    const std::string& name(std::size_t i) const { return names_[i]; }
+    const std::string& manifest_path() const { return manifest_; }
+
+private:
+    Frame& frame_;
+    std::string pattern_, dir_, manifest_;
+    std::vector<std::string> names_;
+    io::WriteOptions wo_;
+};
 // Shared by --eval-blur and --diffuse (cmd_blur.cpp). Errors name `flag`.
 std::string image_name(const StackEntry& e);  // "'in.exr'" or "the top image"
 LensOverrides lens_overrides(const Frame& f);

@@ -108,12 +108,8 @@ void do_blurfield(Frame& f, const std::string& path) {
         return;
     }
     StageTimer t(s.stats, "blurfield");
+    const std::string text = read_text("--blurfield", "file", path);
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) runtime_error("--blurfield: file '" + path + "' not found");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) runtime_error("--blurfield: cannot open '" + path + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
     BlurField::Context ctx;
     ctx.base_dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
     // Painted masks are data: read without colour conversion.
@@ -124,7 +120,7 @@ void do_blurfield(Frame& f, const std::string& path) {
         if (!r) return r.status();
         return std::shared_ptr<const Image>(std::make_shared<Image>(std::move(r).value()));
     };
-    auto r = BlurField::parse(ss.str(), ctx);
+    auto r = BlurField::parse(text, ctx);
     if (!r) runtime_error("--blurfield '" + path + "': " + r.message());
     auto st = std::make_shared<BlurState>();
     st->path = path;

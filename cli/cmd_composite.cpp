@@ -32,16 +32,6 @@ std::string frame_path(const Frame& f, const std::string& arg) {
     return r.value();
 }
 
-std::string read_text(const std::string& flag, const std::string& what, const std::string& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) runtime_error(flag + ": " + what + " '" + path + "' not found");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) runtime_error(flag + ": cannot open " + what + " '" + path + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string size_str(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 Image read_map(Frame& f, const std::string& flag, const std::string& path) {
@@ -224,7 +214,11 @@ bool composite_step(Frame& f, const Step* step) {
         if (n == "--near-map") return f.composite.near_map = frame_path(f, a[0]), true;
         if (n == "--far-map") return f.composite.far_map = frame_path(f, a[0]), true;
         if (n == "--soft") return f.composite.soft_k = int(parse_double(step->flag, a[0])), true;
-        if (n == "--aovs") return f.composite.aovs = true, true;
+        if (n == "--aovs") {
+            if (!a.empty() && a[0] != "all")
+                usage_error(step->flag + "=" + a[0] + ": --composite's AOVs are stack.index and stack.deviation: give --aovs alone");
+            return f.composite.aovs = true, true;
+        }
     }
     if (!f.composite.manifest.empty()) run_composite(f);
     return false;

@@ -1,6 +1,8 @@
 // Inputs, -o and --info.
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "cli.h"
 #include "gdof/io/image_io.h"
@@ -28,6 +30,16 @@ bool is_display_format(const std::string& path) {
 }
 
 }  // namespace
+
+std::string read_text(const std::string& flag, const std::string& what, const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) runtime_error(flag + ": " + what + " '" + path + "' not found");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) runtime_error(flag + ": cannot open " + what + " '" + path + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
 
 std::string working_space(const io::ColourConfig& config) {
     for (const char* n : {"scene_linear", "linear", "default"}) {

@@ -1,16 +1,10 @@
 // --lightfield PATTERN --lf lf.json --stack stack.json -o stack/ref.####.exr:
 // extracts a focus/aperture stack from a light field by shift-and-add
 // (gdof/lightfield.h). The -o pattern's frame number is the reference index
-// (from 1); manifest.json goes beside the images, written last (temporary
-// file + rename), so a failed run never leaves a manifest pointing at
-// missing or half-written images.
-#include <unistd.h>
-
+// (from 1); manifest.json goes beside the images, written last
+// (StackOutput, stack_output.cpp).
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "cli.h"
 #include "gdof/focal_stack.h"
@@ -23,34 +17,10 @@ namespace gdof::cli {
 
 namespace {
 
-namespace fs = std::filesystem;
-
 std::string fmt(const char* f, double v) {
     char b[64];
     std::snprintf(b, sizeof b, f, v);
     return b;
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-    const fs::path target(path);
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".gdof-tmp-" + std::to_string(::getpid()));
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            runtime_error("writing '" + path + "': cannot write '" + tmp.string() + "'");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        std::error_code ec2;
-        fs::remove(tmp, ec2);
-        runtime_error("writing '" + path + "': " + ec.message());
-    }
 }
 
 }  // namespace
@@ -59,24 +29,14 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     Session& s = *f.session;
     const std::string source = f.lightfield;
     f.lightfield.clear();
-    if (!io::has_frame_pattern(pattern))
-        usage_error("-o '" + pattern + "': a light-field stack is one file per reference: give a frame pattern, "
-                    "e.g. stack/ref.####.exr");
+    check_stack_pattern(pattern, "a light-field stack");
 
     io::LightFieldConfig config;
     if (!f.lightfield_config.empty()) config = take(io::read_lightfield_config(f.lightfield_config), "--lf");
     StackSpec spec = take(io::read_stack_spec(f.stack_spec), "--stack");
     spec.scene_unit_mm = config.scene_unit_mm;
 
-    // Output names (reference i -> frame i + 1), all in one folder with the manifest.
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < spec.references.size(); ++i)
-        names.push_back(take(io::expand_frame_pattern(pattern, int(i) + 1), "-o '" + pattern + "'"));
-    const fs::path dir = fs::path(names.front()).parent_path();
-    for (const std::string& n : names)
-        if (fs::path(n).parent_path() != dir)
-            usage_error("-o '" + pattern + "': the stack's files must share one folder (the frame pattern is in a folder name)");
-    const std::string manifest_path = (dir / "manifest.json").string();
+    const StackOutput out(f, pattern, spec.references.size());
 
     // Load the views.
     io::ReadOptions ro;
@@ -93,22 +53,12 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     const Image& central = lf.central();
     // Plan first: bad references fail before any file is written.
     FocalStack planned = take(plan_stack(lf, spec), "--stack '" + f.stack_spec + "'");
-    std::error_code ec;
-    if (!dir.empty() && !fs::is_directory(dir, ec)) {
-        fs::create_directories(dir, ec);
-        if (ec) runtime_error("-o '" + pattern + "': cannot create folder '" + dir.string() + "': " + ec.message());
-    }
+    out.create_folder();
     if (s.progress.enabled() || s.global.verbose)
         s.progress.message("gdof: --lightfield '" + source + "': " + std::to_string(lf.rows) + " x " +
                            std::to_string(lf.cols) + " views " + std::to_string(central.width()) + "x" +
                            std::to_string(central.height()) + ", " + std::to_string(planned.references.size()) +
                            " references");
-
-    io::WriteOptions wo;
-    wo.pixel_type = f.output_pixel_type;
-    wo.compression = f.output_compression;
-    wo.colorspace = f.output_colorspace;
-    wo.colour = s.colour.get();
 
     double t_write = 0, view_pixels = 0;
     const std::size_t n = planned.references.size();
@@ -120,13 +70,11 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     auto sink = [&](std::size_t i, Image&& image) -> Status {
         s.progress.end();
         const auto t0 = std::chrono::steady_clock::now();
-        ImageSet set;
-        set.parts.emplace_back(std::move(image));
-        Status st = io::write_image(names[i], set, wo);
+        Status st = out.write(i, std::move(image));
         t_write += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (!st) return st.message().find(names[i]) != std::string::npos ? st : st.prefix("writing '" + names[i] + "'");
+        if (!st) return st;
         view_pixels += double(lf.aperture_views(planned.references[i].aperture_radius_views)) * double(central.npixels());
-        if (s.progress.enabled() || s.global.verbose) s.progress.message("gdof: " + label(i) + " -> " + names[i]);
+        if (s.progress.enabled() || s.global.verbose) s.progress.message("gdof: " + label(i) + " -> " + out.name(i));
         if (i + 1 < n) s.progress.begin("lightfield " + label(i + 1));
         return {};
     };
@@ -143,13 +91,10 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     s.stats.add("refocus", t_total - t_write);
     s.stats.add("write", t_write);
 
-    FocalStack stack = std::move(result.value().stack);
-    for (std::size_t i = 0; i < n; ++i) stack.references[i].file = fs::path(names[i]).filename().string();
     {
         StageTimer t(s.stats, "write");
-        write_text_atomically(manifest_path, format_stack_manifest(stack));
+        out.write_manifest(std::move(result.value().stack));
     }
-    if (s.global.verbose) s.progress.message("gdof: wrote " + manifest_path);
     if (s.global.stats) {
         const double refocus_s = t_total - t_write;
         s.progress.message("gdof: --lightfield: " + std::to_string(n) + " references, " + fmt("%.4g", view_pixels) +

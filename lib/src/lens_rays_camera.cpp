@@ -3,6 +3,7 @@
 // straight-ray thin lens used as the reference.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "gdof/lens_rays.h"
@@ -123,10 +124,15 @@ Status NonlinearCamera::prepare(double px, double py, PixelCone& out) const {
     bool any = false;
     for (std::size_t i = 0; i < n; ++i) {
         const double b = p.radius[i];
-        if (!std::isfinite(b) || b < 0)
-            return Status::error("nonlinear camera: blur field gives " + std::to_string(b) + " px at depth " +
-                                 std::to_string(p.depth[i]) + " on the ray of pixel (" + std::to_string(px) + ", " +
-                                 std::to_string(py) + ")");
+        // A cone wider than 1e20 scene units is meaningless and its ray
+        // coordinates overflow floats (e.g. a field scaled by 1e300).
+        const double rho = b * footprint(p.depth[i]);
+        if (!std::isfinite(b) || b < 0 || !(rho <= 1e20)) {
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "nonlinear camera: blur field gives %g px%s at depth %g on the ray of pixel (%g, %g)",
+                          b, rho > 1e20 ? " (a cone over 1e20 scene units wide)" : "", p.depth[i], px, py);
+            return Status::error(buf);
+        }
         out.max_blur_px = std::max(out.max_blur_px, b);
         if (b == 0.0) {
             if (!in_zero) out.in_focus.push_back(p.depth[i]);
@@ -196,7 +202,10 @@ Status NonlinearCamera::prepare(double px, double py, PixelCone& out) const {
                         if (t == 0.5) rm = ex;
                     }
                 }
-                if (split && std::isfinite(rm)) {
+                // The vertex budget bounds the work for absurd fields (e.g.
+                // B = 1e300 px, where no chord is within tolerance).
+                const bool budget = od.size() + stack.size() < std::size_t(opts_.max_profile_vertices);
+                if (split && std::isfinite(rm) && budget) {
                     const double zm = sgm.za + 0.5 * len;
                     // Right half pushed first: the left half is emitted first.
                     stack.push_back({zm, rm, sgm.zb, sgm.rb, sgm.level + 1});

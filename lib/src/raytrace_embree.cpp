@@ -58,6 +58,15 @@ Result<std::shared_ptr<const RayTracer>> RayTracer::build(const Scene& scene) {
 }
 
 namespace {
+// Embree (Debian's build keeps its assertions) aborts on a ray with a
+// non-finite origin or direction after float conversion: such rays hit nothing.
+bool valid_ray(const RTCRay& r) {
+    const float v[] = {r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear};
+    for (float x : v)
+        if (!std::isfinite(x)) return false;
+    return r.tnear >= 0 && !(r.tfar < r.tnear) && !std::isnan(r.tfar);
+}
+
 void set_ray(RTCRay& r, const Vec3& o, const Vec3& d, double tnear, double tfar) {
     r.org_x = float(o.x), r.org_y = float(o.y), r.org_z = float(o.z);
     r.dir_x = float(d.x), r.dir_y = float(d.y), r.dir_z = float(d.z);
@@ -78,6 +87,7 @@ RayHit RayTracer::intersect(const Vec3& origin, const Vec3& dir, double tnear, d
     rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    if (!valid_ray(rayhit.ray)) return {};
     rtcIntersect1(impl_->scene, &context, &rayhit);
     RayHit h;
     if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
@@ -94,6 +104,7 @@ bool RayTracer::occluded(const Vec3& origin, const Vec3& dir, double tnear, doub
     rtcInitIntersectContext(&context);
     RTCRay ray;
     set_ray(ray, origin, dir, tnear, tfar);
+    if (!valid_ray(ray)) return false;
     rtcOccluded1(impl_->scene, &context, &ray);
     return ray.tfar == -std::numeric_limits<float>::infinity();
 }

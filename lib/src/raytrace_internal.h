@@ -4,6 +4,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "gdof/deep.h"
+#include "gdof/image.h"
+
 #include "gdof/raytrace.h"
 
 namespace gdof::rt {
@@ -44,5 +47,37 @@ private:
     std::vector<Tri> tris_;
     std::vector<double> cdf_;  // normalised, last = 1
 };
+
+// One aperture sample of a pixel, as the pixel writers need it.
+struct Sample {
+    bool hit = false;
+    Vec3 radiance{0, 0, 0};  // environment when no hit
+    Vec3 albedo{0, 0, 0}, p{0, 0, 0}, n{0, 0, 0};
+    double z = 0;
+    std::uint32_t id = 0;
+};
+
+// Flat output: channel indices (-1: AOV not written).
+struct FlatLayout {
+    int r = 0, g = 1, b = 2, a = 3;
+    int albedo = -1, z = -1, p = -1, n = -1, id = -1;  // first of each group
+    static FlatLayout make(unsigned aovs, std::vector<ChannelSpec>& specs);
+};
+// Averages a pixel's samples into the flat image (beauty + AOVs).
+void write_flat_pixel(Image& img, const FlatLayout& l, std::size_t offset, const std::vector<Sample>& samples,
+                      std::uint32_t central_id, bool env_opaque);
+
+// Deep output: one pixel's surfaces (see render_deep in raytrace.h).
+struct DeepSurface {
+    Vec3 rgb{0, 0, 0};  // premultiplied
+    double alpha = 0, z = 0;
+    Vec3 albedo{0, 0, 0}, p{0, 0, 0}, n{0, 0, 0};
+    std::uint32_t id = 0;
+};
+// Groups the hits into surfaces; `samples` is reordered.
+void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_opaque,
+                std::vector<DeepSurface>& out);
+// Assembles the deep image from every pixel's surfaces (row-major over window).
+DeepImage make_deep_image(const Roi& window, unsigned aovs, std::vector<std::vector<DeepSurface>>& pixels);
 
 }  // namespace gdof::rt

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <mutex>
 #include <optional>
 
 #if defined(__SSE__) || defined(__x86_64__)
@@ -38,7 +39,7 @@ struct Setup {
     std::string label;
 };
 
-Result<Setup> make_setup(const Scene& scene, const RenderSettings& s) {
+Result<Setup> make_setup(const Scene& scene, const Camera& camera, const RenderSettings& s) {
     Setup st;
     if (s.pinhole) {
         st.label = "pinhole";
@@ -48,8 +49,8 @@ Result<Setup> make_setup(const Scene& scene, const RenderSettings& s) {
     if (s.blur_field) {
         field = *s.blur_field;
         st.label = "blur field " + field->describe();
-    } else if (std::isfinite(scene.camera.lens().f_number) && std::isfinite(scene.camera.lens().focus_distance)) {
-        auto lens = scene.camera.thin_lens();
+    } else if (std::isfinite(camera.lens().f_number) && std::isfinite(camera.lens().focus_distance)) {
+        auto lens = camera.thin_lens();
         if (!lens) return Status::error("camera: " + lens.message());
         if (s.straight_thin_lens) {
             st.mode = Mode::StraightThinLens;
@@ -74,79 +75,69 @@ Result<Setup> make_setup(const Scene& scene, const RenderSettings& s) {
     double dmin = std::numeric_limits<double>::infinity(), dmax = 0;
     for (const TriangleMesh& m : scene.meshes)
         for (std::size_t v = 0; v < m.vertex_count(); ++v) {
-            const double d = scene.camera.project(m.vertex(v)).depth;
+            const double d = camera.project(m.vertex(v)).depth;
             if (d > 0) dmin = std::min(dmin, d), dmax = std::max(dmax, d);
         }
     if (dmax > 0) {
         opts.depth_min = std::max(opts.depth_min, 0.5 * dmin);
         opts.depth_max = std::max(opts.depth_min * 2, 1.01 * dmax);
     }
-    auto nc = NonlinearCamera::create(scene.camera, *field, opts);
+    auto nc = NonlinearCamera::create(camera, *field, opts);
     if (!nc) return Status::error("camera: " + nc.message());
     st.ncam = std::move(nc).value();
     st.mode = Mode::Polyline;
     return st;
 }
 
-struct Channels {
-    int r, g, b, a, ar, ag, ab, z, px, py, pz, nx, ny, nz, id;
-};
-
-struct Accum {
-    Vec3 rgb{0, 0, 0}, albedo{0, 0, 0}, p{0, 0, 0}, n{0, 0, 0};
-    double z = 0;
-    int hits = 0, n_samples = 0;
-    double mean = 0, m2 = 0;  // Welford on luminance
-    void add_lum(double l) {
-        ++n_samples;
-        double d = l - mean;
-        mean += d / n_samples;
-        m2 += d * (l - mean);
-    }
-    bool converged(double threshold) const {
-        if (threshold <= 0 || n_samples < 2) return false;
-        double var = m2 / (n_samples - 1);
-        double se = std::sqrt(var / n_samples);
-        return se <= threshold * std::max(mean, 0.01);
-    }
-};
-
 struct TileCounters {
     std::uint64_t primary = 0, segments = 0, shadow = 0, id = 0;
 };
 
-}  // namespace
+// Welford running variance of the samples' luminance (the adaptive stop).
+struct LuminanceStats {
+    int n = 0;
+    double mean = 0, m2 = 0;
+    void add(double l) {
+        ++n;
+        const double d = l - mean;
+        mean += d / n;
+        m2 += d * (l - mean);
+    }
+    bool converged(double threshold) const {
+        if (threshold <= 0 || n < 2) return false;
+        const double se = std::sqrt(m2 / (n - 1) / n);
+        return se <= threshold * std::max(mean, 0.01);
+    }
+};
 
-Result<Image> render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Exec& exec) {
-    auto rt = RayTracer::build(scene);
-    if (!rt) return rt.status();
-    return render(*rt.value(), settings, stats, exec);
-}
-
-Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats,
-                     const Exec& exec) {
+// Renders into a flat image or (deep != nullptr) per-pixel deep surfaces.
+Status render_impl(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats, const Exec& exec,
+                   Image* flat, DeepImage* deep) {
     const Scene& scene = tracer.scene();
-    const Camera& cam = scene.camera;
+    Camera cam = scene.camera;
+    if (settings.lens) cam.set_lens(*settings.lens);
     if (settings.spp < 1) return Status::error("spp: must be >= 1, got " + std::to_string(settings.spp));
     if (settings.min_spp < 1) return Status::error("min_spp: must be >= 1, got " + std::to_string(settings.min_spp));
     if (settings.tile_size < 1) return Status::error("tile_size: must be >= 1");
     if (!(settings.adaptive_threshold >= 0)) return Status::error("adaptive_threshold: must be >= 0");
     if (!(settings.polyline_tolerance_px > 0)) return Status::error("polyline_tolerance_px: must be > 0");
-    auto setup_r = make_setup(scene, settings);
+    if (settings.aovs & ~unsigned(kAovAll)) return Status::error("aovs: unknown AOV bits");
+    auto setup_r = make_setup(scene, cam, settings);
     if (!setup_r) return setup_r.status();
     const Setup& setup = setup_r.value();
     const int min_spp = std::min(settings.min_spp, settings.spp);
 
     const Roi disp = cam.display_window();
-    std::vector<ChannelSpec> specs;
-    for (const char* n : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "Z", "P.x", "P.y", "P.z", "N.x",
-                          "N.y", "N.z"})
-        specs.push_back({n, PixelType::Float});
-    specs.push_back({"id", PixelType::UInt});
-    Image img(specs, disp, disp);
-    cam.to_metadata(img.metadata);
-    img.metadata.set_string("gdof:renderCamera", setup.label);
-    const Channels ch{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14};
+    rt::FlatLayout layout;
+    if (flat) {
+        std::vector<ChannelSpec> specs;
+        layout = rt::FlatLayout::make(settings.aovs, specs);
+        *flat = Image(specs, disp, disp);
+        cam.to_metadata(flat->metadata);
+        flat->metadata.set_string("gdof:renderCamera", setup.label);
+    }
+    std::vector<std::vector<rt::DeepSurface>> deep_pixels(deep ? disp.npixels() : 0);
+    const bool want_id = (settings.aovs & kAovId) != 0;
 
     rt::LightSampler lights(scene);
     // A visible (non-black) environment is part of the picture: alpha 1.
@@ -156,7 +147,9 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
     const long ntiles = long(ntx) * nty;
     std::atomic<std::uint64_t> a_primary{0}, a_segments{0}, a_shadow{0}, a_id{0};
     std::atomic<long> tiles_done{0};
-    const double kNaN = std::numeric_limits<double>::quiet_NaN();
+    std::atomic<bool> failed{false};
+    std::mutex error_mu;
+    std::string error;
     const auto t0 = std::chrono::steady_clock::now();
 
     // A depth-only field (thin_lens, focal_planes, ...) has the same cone at
@@ -164,15 +157,18 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
     std::optional<PixelCone> shared_cone;
     if (setup.mode == Mode::Polyline && setup.ncam->depth_only()) {
         PixelCone c;
-        if (setup.ncam->prepare(disp.x0 + 0.5, disp.y0 + 0.5, c)) shared_cone = std::move(c);
+        Status st = setup.ncam->prepare(disp.x0 + 0.5, disp.y0 + 0.5, c);
+        if (!st) return st.prefix("blur field");
+        shared_cone = std::move(c);
     }
 
     auto body = [&](long tb, long te) {
         set_ftz_daz();
         PixelCone cone = shared_cone ? *shared_cone : PixelCone{};
         PolylineRay poly;
+        std::vector<rt::Sample> samples;
         for (long tile = tb; tile < te; ++tile) {
-            if (exec.is_cancelled()) return;
+            if (exec.is_cancelled() || failed) return;
             TileCounters c;
             const int tx0 = disp.x0 + int(tile % ntx) * ts, ty0 = disp.y0 + int(tile / ntx) * ts;
             const int tx1 = std::min(tx0 + ts, disp.x1), ty1 = std::min(ty0 + ts, disp.y1);
@@ -186,12 +182,18 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
                         setup.ncam->retarget(cone, pcx, pcy);
                     } else if (setup.mode == Mode::Polyline) {
                         Status st = setup.ncam->prepare(pcx, pcy, cone);
-                        if (!st) cone.pinhole = true, cone.central = cam.central_ray(pcx, pcy);
+                        if (!st) {  // the field cannot be sampled here: an error, never a silent pinhole
+                            std::lock_guard<std::mutex> lock(error_mu);
+                            if (!failed.exchange(true))
+                                error = "blur field at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                        "): " + st.message();
+                            return;
+                        }
                     }
-                    Accum acc;
-                    std::uint32_t id_first = 0;
+                    LuminanceStats lum;
+                    samples.clear();
                     for (int s = 0; s < settings.spp; ++s) {
-                        if (s >= min_spp && acc.converged(settings.adaptive_threshold)) break;
+                        if (s >= min_spp && lum.converged(settings.adaptive_threshold)) break;
                         Vec2 j{0, 0};
                         if (settings.pixel_jitter && settings.spp > 1) {
                             Vec2 u = unit_square_sample(jitter_seed, std::uint32_t(s));
@@ -221,7 +223,10 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
                             poly.far_direction = r.direction;
                         }
                         ++c.primary;
-                        // Trace segment by segment, stopping at the first hit.
+                        // Trace segment by segment, stopping at the first hit. Each
+                        // segment reaches a little past its end vertex: a surface at an
+                        // in-focus depth holds the vertex, and in float arithmetic
+                        // neither segment would find it exactly at t = 1 / t = 0.
                         RayHit hit;
                         Vec3 o, d;
                         const std::size_t n = poly.points.size();
@@ -230,56 +235,46 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
                             const bool last = i + 1 == n;
                             d = last ? poly.far_direction : poly.points[i + 1] - o;
                             ++c.segments;
-                            hit = tracer.intersect(o, d, 0.0, last ? std::numeric_limits<double>::infinity() : 1.0);
+                            hit = tracer.intersect(o, d, 0.0, last ? std::numeric_limits<double>::infinity() : 1.0 + 1e-4);
                         }
-                        Vec3 radiance = scene.environment;
+                        rt::Sample smp;
+                        smp.radiance = scene.environment;
                         if (hit.hit()) {
                             rt::Rng rng(settings.seed, pixel_key, std::uint64_t(s));
                             const SurfaceHit sh = tracer.surface(hit, o, d);
-                            radiance = lights.shade(tracer, sh, d, rng, settings.light_samples, c.shadow);
-                            ++acc.hits;
-                            acc.albedo = acc.albedo + scene.materials[sh.material].kd;
-                            acc.p = acc.p + sh.p;
-                            acc.n = acc.n + sh.n;
-                            acc.z += cam.project(sh.p).depth;
-                            if (s == 0) id_first = sh.object_id;
+                            smp.hit = true;
+                            smp.radiance = lights.shade(tracer, sh, d, rng, settings.light_samples, c.shadow);
+                            smp.albedo = scene.materials[sh.material].kd;
+                            smp.p = sh.p;
+                            smp.n = sh.n;
+                            smp.z = cam.project(sh.p).depth;
+                            smp.id = sh.object_id;
                         }
-                        acc.rgb = acc.rgb + radiance;
-                        acc.add_lum(rt::luminance(radiance));
+                        lum.add(rt::luminance(smp.radiance));
+                        samples.push_back(smp);
                     }
                     // The id is the object on the pixel's central ray.
-                    std::uint32_t id = id_first;
+                    std::uint32_t id = 0;
                     const bool sample0_central = setup.mode == Mode::Pinhole && !(settings.pixel_jitter && settings.spp > 1);
-                    if (!sample0_central) {
+                    if (want_id && flat && sample0_central) {
+                        id = samples[0].hit ? samples[0].id : 0;
+                    } else if (want_id && flat) {
                         const CameraRay cr = cam.central_ray(pcx, pcy);
                         ++c.id;
                         RayHit h = tracer.intersect(cr.origin, cr.direction, 0.0, std::numeric_limits<double>::infinity());
                         id = h.hit() ? scene.meshes[h.mesh].object_id[h.prim] : 0;
                     }
-                    const double inv = 1.0 / acc.n_samples;
-                    const std::size_t off = img.offset(x, y);
-                    auto put = [&](int chn, double v) { img.plane(chn)[off] = float(v); };
-                    put(ch.r, acc.rgb.x * inv), put(ch.g, acc.rgb.y * inv), put(ch.b, acc.rgb.z * inv);
-                    put(ch.a, env_opaque ? 1.0 : acc.hits * inv);
-                    if (acc.hits > 0) {
-                        const double ih = 1.0 / acc.hits;
-                        put(ch.ar, acc.albedo.x * ih), put(ch.ag, acc.albedo.y * ih), put(ch.ab, acc.albedo.z * ih);
-                        put(ch.z, acc.z * ih);
-                        put(ch.px, acc.p.x * ih), put(ch.py, acc.p.y * ih), put(ch.pz, acc.p.z * ih);
-                        Vec3 nn = acc.n * ih;
-                        if (length(nn) > 0) nn = normalize(nn);
-                        put(ch.nx, nn.x), put(ch.ny, nn.y), put(ch.nz, nn.z);
-                    } else {
-                        put(ch.z, std::numeric_limits<double>::infinity());
-                        for (int k : {ch.px, ch.py, ch.pz, ch.nx, ch.ny, ch.nz}) put(k, kNaN);
-                    }
-                    img.uplane(ch.id)[off] = id;
+                    const std::size_t pix = std::size_t(y - disp.y0) * std::size_t(disp.width()) + std::size_t(x - disp.x0);
+                    if (flat) rt::write_flat_pixel(*flat, layout, flat->offset(x, y), samples, id, env_opaque);
+                    if (deep) rt::deep_pixel(samples, scene.environment, env_opaque, deep_pixels[pix]);
                 }
             a_primary += c.primary, a_segments += c.segments, a_shadow += c.shadow, a_id += c.id;
             exec.report(double(++tiles_done) / double(ntiles));
         }
     };
-    if (!parallel_for(exec, ntiles, body, 1)) return Status::error("render cancelled");
+    const bool done = parallel_for(exec, ntiles, body, 1);
+    if (failed) return Status::error(error);
+    if (!done) return Status::error("render cancelled");
     if (stats) {
         stats->primary_rays = a_primary;
         stats->segments = a_segments;
@@ -289,7 +284,36 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         stats->camera = setup.label;
     }
+    if (deep) {
+        *deep = rt::make_deep_image(disp, settings.aovs, deep_pixels);
+        cam.to_metadata(deep->metadata);
+        deep->metadata.set_string("gdof:renderCamera", setup.label);
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<Image> render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Exec& exec) {
+    auto rt = RayTracer::build(scene);
+    if (!rt) return rt.status();
+    return render(*rt.value(), settings, stats, exec);
+}
+
+Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats,
+                     const Exec& exec) {
+    Image img;
+    Status st = render_impl(tracer, settings, stats, exec, &img, nullptr);
+    if (!st) return st;
     return img;
+}
+
+Result<DeepImage> render_deep(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats,
+                              const Exec& exec) {
+    DeepImage deep;
+    Status st = render_impl(tracer, settings, stats, exec, nullptr, &deep);
+    if (!st) return st;
+    return deep;
 }
 
 std::string RenderStats::report() const {

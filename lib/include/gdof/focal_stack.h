@@ -31,10 +31,12 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "gdof/image.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -71,5 +73,10 @@ struct FocalStack {
 Result<FocalStack> parse_stack_manifest(const std::string& json_text, const std::string& base_dir);
 // Serialises a stack (near/far always written; "inf" for an infinite far).
 std::string format_stack_manifest(const FocalStack& stack);
+
+// Stack producers (light-field extraction, ray-traced stacks) call this after
+// each reference is done (index, image) so a front end can write it and free
+// it. A failed Status stops the producer.
+using StackSink = std::function<Status(std::size_t index, Image&& image)>;
 
 }  // namespace gdof

@@ -128,9 +128,7 @@ struct ExtractedStack {
     FocalStack stack;           // near/far, focus_disparity, aperture_radius_views filled; file names empty
 };
 
-// Called after each reference is done (index, image) so a front end can write
-// it and free it; when given, `images` is left empty. A failed Status stops.
-using StackSink = std::function<Status(std::size_t index, Image&& image)>;
+// (StackSink, focal_stack.h: when given, `images` is left empty.)
 
 // Resolves each request's focus disparity and depth of field; errors name the
 // reference ("references[2].aperture_radius: ..."), duplicates are errors.

@@ -14,9 +14,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "gdof/blur_field.h"
+#include "gdof/deep.h"
 #include "gdof/exec.h"
 #include "gdof/image.h"
 #include "gdof/scene.h"
@@ -68,6 +70,20 @@ private:
     const Scene* scene_ = nullptr;
 };
 
+// Arbitrary output variables written beside the beauty (a bit set).
+enum RenderAov : unsigned {
+    kAovAlbedo = 1u << 0,    // albedo.R/G/B
+    kAovDepth = 1u << 1,     // Z
+    kAovPosition = 1u << 2,  // P.x/y/z
+    kAovNormal = 1u << 3,    // N.x/y/z
+    kAovId = 1u << 4,        // id (uint)
+    kAovAll = 0x1fu,
+};
+// "albedo,Z,P,N,id" (any subset, any order), "all" or "none"; errors name
+// the unknown entry.
+Result<unsigned> parse_render_aovs(const std::string& list);
+std::string format_render_aovs(unsigned aovs);
+
 struct RenderSettings {
     int spp = 64;                   // cap on aperture samples per pixel
     int min_spp = 4;                // samples every pixel gets before the adaptive test
@@ -90,6 +106,12 @@ struct RenderSettings {
     bool pixel_jitter = true;       // samples spread over the pixel (false: all at its centre)
     std::uint64_t seed = 0;
     int tile_size = 16;
+    unsigned aovs = kAovAll;        // which AOVs beside the beauty (deep output: Z always)
+    // Replaces the scene camera's lens information (f-number, focus
+    // distance, ...) for this render: the thin lens used without a blur field,
+    // and the lens written in the metadata. What a focus/aperture stack
+    // render changes per reference (render_stack.h).
+    std::optional<LensInfo> lens;
 };
 
 struct RenderStats {
@@ -113,16 +135,30 @@ struct RenderStats {
 
 // Renders the scene's camera. The image's channels are R,G,B,A (beauty,
 // premultiplied; A = fraction of samples that hit geometry, or 1 everywhere
-// when the scene's environment is not black), albedo.R/G/B,
-// Z (depth along the view axis), P.x/y/z (world), N.x/y/z (shading normal),
-// id (uint: object on the pixel's central ray, 0 = none). Z, P, N,
-// albedo average the samples that hit (Z = +inf, P = N = NaN where none
-// did). The camera attributes (Camera::to_metadata) are in its metadata.
+// when the scene's environment is not black), then the AOVs of
+// settings.aovs: albedo.R/G/B, Z (depth along the view axis), P.x/y/z
+// (world), N.x/y/z (shading normal), id (uint: object on the pixel's central
+// ray, 0 = none). Z, P, N, albedo average the samples that hit (Z = +inf,
+// P = N = NaN where none did). The camera attributes (Camera::to_metadata)
+// are in its metadata. A pixel whose blur field cannot be sampled (e.g. a
+// NaN from an image_map) is an error naming the pixel.
 Result<Image> render(const Scene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
                      const Exec& exec = {});
 // The same with a tracer already built for `scene`.
 Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats = nullptr,
                      const Exec& exec = {});
+
+// The same samples as a deep image (for method 3): each pixel's samples that
+// hit are grouped into surfaces (same object id, depths within 5% of each
+// other), one deep sample per surface, sorted by depth: Z = ZBack = the
+// mean depth of its hits, colour = mean radiance x alpha (premultiplied),
+// alpha = its hits / the samples not already taken by nearer surfaces, so
+// flattening the deep pixel (front to back `over`) gives exactly the flat
+// render's R, G, B, A. A non-black environment adds a sample at Z = +inf.
+// Channels: R, G, B, A, Z, ZBack, then the AOVs (albedo, P, N: the
+// surface's mean; id: the surface's object).
+Result<DeepImage> render_deep(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats = nullptr,
+                              const Exec& exec = {});
 
 // Raw ray throughput of the tracer on this scene, for comparison in --stats:
 // the pinhole central ray of every pixel traced `repeats` times with
