@@ -21,6 +21,16 @@ mkdir -p "$img"
         --ch R,G,B -o "$img/diffusion_two_planes.png"
 "$gdof" "$tmp/deep.exr" --blurfield "$root/examples/scene/sphere_of_focus.json" --diffuse \
         --ch R,G,B -o "$img/diffusion_sphere_from_deep.png"
+# The OpenFX plugin: "gdof Defocus" on the same scene in the test host of
+# tests/ofx (a build with -DGDOF_BUILD_OFX=ON), the Source and the effect's
+# output side by side as in a host's viewer.
+ofx_picture="$build/tests/gdof_ofx_readme_picture"
+ofx_bundle="$build/ofx_plugin/gdof.ofx.bundle/Contents/Linux-x86-64/gdof.ofx"
+if [[ -x "$ofx_picture" && -f "$ofx_bundle" ]]; then
+  "$ofx_picture" "$ofx_bundle" "$tmp/scene.exr" "$img/ofx_defocus_before_after.png"
+else
+  echo "skipping the OFX picture: build with -DGDOF_BUILD_OFX=ON (needs $ofx_picture)" >&2
+fi
 # Method 1 (nonlinear ray tracing): the generated render scene with two focal planes.
 "$gdof" --render "$root/examples/render/generated.json" --blurfield "$root/examples/render/generated_two_planes.json" \
         --spp 32 -o "$tmp/render.exr"

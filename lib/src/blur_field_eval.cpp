@@ -65,7 +65,14 @@ Status BlurField::evaluate(const Camera& camera, std::span<const PixelDepth> sam
         }
         if (world)
             for (std::size_t i = 0; i < n; ++i) {
-                const Vec3 p = camera.unproject(px[i], py[i], depth[i]);
+                // Depth +inf (sky) has no finite world point: unproject(+inf)
+                // is inf - inf = NaN, and a region field would give NaN where
+                // layers promise B accepts +inf. A point this far along the
+                // pixel's ray gives the limit instead: every bounded shape's
+                // signed distance overflows to +inf, a plane's follows the ray.
+                constexpr double kFarDepth = 1e200;
+                const double d = depth[i] == std::numeric_limits<double>::infinity() ? kFarDepth : depth[i];
+                const Vec3 p = camera.unproject(px[i], py[i], d);
                 x[i] = p.x, y[i] = p.y, z[i] = p.z;
             }
         bf::Batch b{n, x, y, z, px, py, depth, &camera};

@@ -32,7 +32,8 @@ public:
         const double kw = k_ * b.camera->image_width();
         for (std::size_t i = 0; i < b.n; ++i) {
             const double z = b.depth[i];
-            const double r = kw * std::fabs(1.0 - s_ / z);
+            const double a = std::fabs(1.0 - s_ / z);
+            const double r = a == 0 ? 0.0 : kw * a;  // sharp at s even if kw overflowed (no inf * 0)
             out[i] = z > 0 ? r : (z <= 0 ? kInf : kNaN);
         }
     }
@@ -220,9 +221,14 @@ public:
             const double s = img_->sample(channel_, x, y);
             return std::isnan(s) || s < 0 ? 0.0 : s;
         };
-        const double top = at(x0, y0) * (1 - fx) + at(x1, y0) * fx;
-        const double bot = at(x0, y1) * (1 - fx) + at(x1, y1) * fx;
-        return scale_ * (top * (1 - fy) + bot * fy);
+        // A tap of weight 0 is skipped, so an infinite map value (a half
+        // overflow in a painted EXR) stays +inf where it is sampled and does
+        // not turn its neighbours' exact samples into inf * 0 = NaN.
+        auto lerp = [](double a, double b, double t) { return t == 0 ? a : t == 1 ? b : a * (1 - t) + b * t; };
+        const double top = lerp(at(x0, y0), at(x1, y0), fx);
+        const double bot = lerp(at(x0, y1), at(x1, y1), fx);
+        const double value = lerp(top, bot, fy);
+        return scale_ == 0 ? 0.0 : scale_ * value;  // scale 0: sharp, also where the map is +inf
     }
     void eval(const Batch& b, double* out) const override {
         for (std::size_t i = 0; i < b.n; ++i) out[i] = value(*b.camera, b.px[i], b.py[i]);

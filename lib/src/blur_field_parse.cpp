@@ -126,6 +126,9 @@ private:
         if (!(l.focus_distance * l.scene_unit_mm > l.focal_length_mm))
             fail(o.key_path("focus_distance"), "must be beyond the focal length (" + num_str(l.focal_length_mm / l.scene_unit_mm) +
                                                    " scene units), got " + num_str(l.focus_distance));
+        // Values valid one by one can still overflow together (f_number 1e-300):
+        // ThinLens::validate says which combination (its message names the keys).
+        if (Status st = l.validate(); !st) fail(o.key_path("f_number"), st.message());
         return bf::make_thin_lens(l);
     }
 

@@ -107,8 +107,12 @@ Poly build_profile(const Node& root, const Ray& r, double a, double b, double to
                 }
                 if (ok) {
                     push(s.b, s.fb, RayProfile::Sample);
+                } else if (const double m = bf::split_point(s.a, s.b); !(m > s.a && m < s.b)) {
+                    // No representable depth strictly inside (denormal depths
+                    // near a range starting at 0): splitting would emit the
+                    // same depth twice, a zero-length segment.
+                    push(s.b, s.fb, RayProfile::Sample);
                 } else {
-                    const double m = bf::split_point(s.a, s.b);
                     const double fm = bf::eval_on_ray(root, r, m);
                     // Right half first on the stack so the left half is emitted first.
                     stack.push_back({m, fm, s.b, s.fb, s.level + 1});
@@ -140,6 +144,10 @@ double RayProfile::radius_at(double d) const {
     if (d >= depth.back()) return radius.back();
     const std::size_t i = std::size_t(std::upper_bound(depth.begin(), depth.end(), d) - depth.begin());
     const double t = (d - depth[i - 1]) / (depth[i] - depth[i - 1]);
+    // An infinite end (a thin lens at depth 0) makes the chord infinite
+    // (inf + t * -inf would be NaN); t < 1 here.
+    if (std::isinf(radius[i - 1]) || std::isinf(radius[i]))
+        return t == 0 ? radius[i - 1] : std::numeric_limits<double>::infinity();
     return radius[i - 1] + t * (radius[i] - radius[i - 1]);
 }
 

@@ -1,6 +1,8 @@
 #include "gdof/blur_map.h"
 
 #include <atomic>
+#include <cmath>
+#include <limits>
 #include <mutex>
 #include <span>
 #include <vector>
@@ -107,8 +109,16 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
             return Status::error("no position channels (P.x/P.y/P.z, P.X/Y/Z, P.R/G/B, P.red/green/blue, Pworld.*) "
                                  "and no depth channel '" +
                                  (source.depth_channel.empty() ? std::string("Z") : source.depth_channel) + "'");
+    } else if (auto z = find_depth_channel(img, source.depth_channel); z && *z >= 0 && source.depth_decode.validate()) {
+        // With positions, the depth channel (when there is a usable one)
+        // stands in for sky pixels: P not finite and depth +inf. A render's
+        // sky has A = 1 under a lit environment but P = NaN (no hit) and
+        // Z = +inf, and B must accept the sky (layers.h) instead of turning
+        // NaN. A NaN P at a finite depth stays NaN (a broken position pass
+        // is reported by the caller, not papered over).
+        zc = *z;
     }
-    if (zc >= 0) {
+    if (zc >= 0 && !*pos) {
         if (Status st = source.depth_decode.validate(); !st) return st.prefix("depth channel '" + img.channel(zc).name + "'");
     }
     const Roi win = img.data_window();
@@ -121,17 +131,28 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
     return for_rows(exec, win.height(), [&](long row) -> Status {
         const std::size_t off = std::size_t(row) * std::size_t(width);
         std::span<float> dst(out + off, std::size_t(width));
+        const double yc = double(win.y0 + row) + 0.5;
+        auto from_depth = [&](int i) {
+            return PixelDepth{double(win.x0 + i) + 0.5, yc, decode_depth(double(zp[off + std::size_t(i)]), source.depth_decode)};
+        };
         if (px) {
             std::vector<Vec3> points(static_cast<std::size_t>(width));
             for (int i = 0; i < width; ++i)
                 points[std::size_t(i)] = Vec3(px[off + std::size_t(i)], py[off + std::size_t(i)], pz[off + std::size_t(i)]);
-            return field.evaluate(camera, std::span<const Vec3>(points), dst);
+            if (Status st = field.evaluate(camera, std::span<const Vec3>(points), dst); !st) return st;
+            if (!zp) return Status::ok();
+            for (int i = 0; i < width; ++i) {
+                const Vec3& p = points[std::size_t(i)];
+                if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+                const PixelDepth s = from_depth(i);
+                if (s.depth != std::numeric_limits<double>::infinity()) continue;
+                if (Status st = field.evaluate(camera, std::span<const PixelDepth>(&s, 1), dst.subspan(std::size_t(i), 1)); !st)
+                    return st;
+            }
+            return Status::ok();
         }
         std::vector<PixelDepth> samples(static_cast<std::size_t>(width));
-        const double yc = double(win.y0 + row) + 0.5;
-        for (int i = 0; i < width; ++i)
-            samples[std::size_t(i)] =
-                PixelDepth{double(win.x0 + i) + 0.5, yc, decode_depth(double(zp[off + std::size_t(i)]), source.depth_decode)};
+        for (int i = 0; i < width; ++i) samples[std::size_t(i)] = from_depth(i);
         return field.evaluate(camera, std::span<const PixelDepth>(samples), dst);
     });
 }

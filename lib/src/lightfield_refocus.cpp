@@ -23,8 +23,14 @@ struct Taps {
     float w[4] = {1, 0, 0, 0};
 };
 
-Taps make_taps(double shift, LightFieldFilter filter) {
+Taps make_taps(double shift, LightFieldFilter filter, long extent) {
     Taps t;
+    // A shift past the image (|d_f * du| > extent, up to 1e300 or +-inf)
+    // puts every tap beyond the edge, where samples clamp: the sample is the
+    // edge pixel. Clamping the shift to an integer just past the edge gives
+    // exactly that and keeps long(i0) and x + first from overflowing.
+    const double lim = double(extent) + 4.0;
+    if (!(std::fabs(shift) <= lim)) shift = shift > 0 ? lim : -lim;
     const double i0 = std::floor(shift);
     const double f = shift - i0;
     if (f == 0) {  // integer shift: an exact copy
@@ -103,8 +109,8 @@ Result<Image> refocus(const LightField& lf, const RefocusSettings& s, const Exec
             if (du * du + dv * dv > s.aperture_radius * s.aperture_radius + 1e-9) continue;
             ViewPlan p;
             p.image = &lf.view(row, col);
-            p.tx = make_taps(-s.focus_disparity * du, s.filter);  // sample at x - d_f * du
-            p.ty = make_taps(-s.focus_disparity * dv, s.filter);
+            p.tx = make_taps(-s.focus_disparity * du, s.filter, central.width());  // sample at x - d_f * du
+            p.ty = make_taps(-s.focus_disparity * dv, s.filter, central.height());
             plan.push_back(p);
         }
     // The central view is always inside (radius >= 0), so the plan is never empty.

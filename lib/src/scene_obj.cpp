@@ -93,6 +93,11 @@ Result<ObjModel> load_obj(const std::string& path) {
         mat.name = m.name;
         mat.kd = {m.diffuse[0], m.diffuse[1], m.diffuse[2]};
         mat.ke = {m.emission[0], m.emission[1], m.emission[2]};
+        // "Kd 1e400" parses as inf and would make every pixel it lights inf.
+        for (const auto& [key, c] : {std::pair{"Kd", mat.kd}, std::pair{"Ke", mat.ke}})
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+                return Status::error(where + ": material '" + m.name + "' (its MTL file): " + key +
+                                     " has a non-finite value");
         model.materials.push_back(mat);
     }
 

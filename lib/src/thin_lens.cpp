@@ -31,6 +31,19 @@ Status ThinLens::validate() const {
                              std::to_string(focal_length_mm) + " mm = " +
                              std::to_string(focal_length_mm / scene_unit_mm) + " scene units), got " +
                              std::to_string(focus_distance));
+    // Each value may be fine on its own while their combination overflows
+    // or underflows a double (f/N with N = 1e-310, s in mm = 1e301 * 1000):
+    // then the CoC formula would give NaN (inf * 0, inf / inf). Every CoC is
+    // finite-or-inf and never NaN when the focus distance in mm and the CoC
+    // at infinity, in mm and in pixels, are positive finite numbers.
+    const double s_mm = focus_distance * scene_unit_mm;
+    const double c_inf = f_number > 0 ? focal_length_mm / f_number * focal_length_mm / (s_mm - focal_length_mm) : 0.0;
+    if (!std::isfinite(s_mm) || !(c_inf > 0) || !std::isfinite(c_inf) || !(c_inf * pixels_per_mm() > 0) ||
+        !std::isfinite(c_inf * pixels_per_mm()))
+        return Status::error("thin lens focal_length_mm, f_number, focus_distance, scene_unit_mm, sensor_width_mm: "
+                             "out of range together (focus distance " + std::to_string(s_mm) +
+                             " mm, CoC at infinity " + std::to_string(c_inf) +
+                             " mm must be positive and finite in mm and in pixels)");
     return {};
 }
 
@@ -40,9 +53,14 @@ double ThinLens::coc_diameter_mm(double depth) const {
     const double f = focal_length_mm;
     const double s = focus_distance * scene_unit_mm;
     const double aperture = f / f_number;  // aperture diameter, mm
-    if (std::isinf(depth)) return aperture * f / (s - f);
+    const double c_inf = aperture * f / (s - f);
     const double z = depth * scene_unit_mm;
-    return aperture * f * std::fabs(z - s) / (z * (s - f));
+    if (std::isinf(z)) return c_inf;  // also a finite depth whose mm overflow
+    // c_inf * |z - s| / z, grouped so that huge depths do not overflow the
+    // numerator and the denominator together (inf / inf = NaN); exactly 0 at
+    // the focus distance (not c_inf * 0 = NaN for an infinite c_inf).
+    const double rel = std::fabs(z - s) / z;
+    return rel == 0 ? 0.0 : c_inf * rel;
 }
 
 double ThinLens::coc_radius_px(double depth) const { return 0.5 * coc_diameter_mm(depth) * pixels_per_mm(); }
@@ -64,9 +82,13 @@ ThinLens::DofLimits ThinLens::dof_limits(double coc_radius_px) const {
     const double f = focal_length_mm;
     const double s = focus_distance * scene_unit_mm;
     const double hp = f * f / (f_number * c);  // H - f, mm
+    // s hp / (hp + (s - f)) written as s / (1 + (s - f) / hp): the same limits
+    // without overflowing s * hp (a tiny acceptable CoC makes hp huge, even
+    // +inf: then both limits are the focus distance).
+    const double q = (s - f) / hp;
     DofLimits d;
-    d.near = s * hp / (hp + (s - f)) / scene_unit_mm;
-    d.far = (s - f) < hp ? s * hp / (hp - (s - f)) / scene_unit_mm : std::numeric_limits<double>::infinity();
+    d.near = s / (1.0 + q) / scene_unit_mm;
+    d.far = q < 1.0 ? s / (1.0 - q) / scene_unit_mm : std::numeric_limits<double>::infinity();
     return d;
 }
 

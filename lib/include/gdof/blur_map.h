@@ -39,7 +39,10 @@ Result<int> find_depth_channel(const Image& img, const std::string& name);
 
 // Evaluates B over the data window of `img` into `out` (npixels floats,
 // row-major over the data window): from the position channels if found,
-// else from depth + camera at the pixel centres. Error if neither exists
+// else from depth + camera at the pixel centres. A sky pixel -- position not
+// finite and depth +inf (a render under a lit environment: P = NaN,
+// Z = +inf) -- takes B at infinite depth when the image also has a depth
+// channel. Error if neither exists
 // (naming the channels looked for). Parallel over rows; result independent
 // of the thread count.
 Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,

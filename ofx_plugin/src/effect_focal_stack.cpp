@@ -1,0 +1,299 @@
+// "gdof Focal Stack": method 2 (gdof/compositing.h). Each output pixel is
+// pulled from the reference of a focus/aperture stack whose [near, far] best
+// matches the desired one: the same select_references / composite_stack calls
+// as `gdof --composite`. The stack is the frames of the Source clip (lens per
+// frame from the lens table or a manifest) or the files of a manifest; the
+// desired near/far come from B-spline control points, a surfaces file or the
+// Near / Far clips.
+#include <algorithm>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "effects.h"
+#include "focal_stack_params.h"
+#include "gdof/compositing.h"
+#include "gdof/io/stack_reader.h"
+#include "gdof/io/stack_sources.h"
+#include "ofx_clips.h"
+#include "ofx_params.h"
+#include "stack_pixels.h"
+
+namespace gdof::ofx {
+
+namespace {
+
+const char* const kSource = kOfxImageEffectSimpleSourceClipName;
+const char* const kNear = "Near";
+const char* const kFar = "Far";
+const char* const kOutput = kOfxImageEffectOutputClipName;
+
+Props define_clip(OfxImageEffectHandle desc, const char* name, const char* label,
+                  std::initializer_list<const char*> components, bool optional, bool temporal) {
+    OfxPropertySetHandle h = nullptr;
+    check(suites().effect->clipDefine(desc, name, &h), std::string("defining clip '") + name + "'");
+    Props p(h);
+    p.set(kOfxPropLabel, label);
+    p.set_strings(kOfxImageEffectPropSupportedComponents, components);
+    p.set(kOfxImageEffectPropSupportsTiles, 1);
+    p.set(kOfxImageEffectPropTemporalClipAccess, temporal ? 1 : 0);
+    p.set(kOfxImageClipPropOptional, optional ? 1 : 0);
+    return p;
+}
+
+Exec render_exec(OfxImageEffectHandle fx) {
+    Exec e;
+    unsigned n = 0;
+    if (suites().thread && suites().thread->multiThreadNumCPUs(&n) == kOfxStatOK) e.nthreads = int(n);
+    e.cancelled = [fx] { return suites().effect->abort(fx) != 0; };
+    return e;
+}
+
+std::string read_file(const std::string& param, const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("parameter '" + param + "': cannot open '" + path + "'");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// A files stack, opened.
+struct FileStack {
+    FocalStack stack;
+    std::unique_ptr<io::StackReader> reader;
+    Roi grid;  // the references' data window (pixels at scale 1; gdof = EXR coordinates)
+};
+
+FileStack open_files(const FocalStackParams& p) {
+    if (p.manifest.empty()) fail("parameter 'manifest': give a stack manifest (stack_source = files)");
+    auto s = io::load_stack(p.manifest);
+    if (!s) fail("parameter 'manifest': " + s.message());
+    FileStack fs;
+    fs.stack = std::move(s).value();
+    if (Status st = io::check_stack_files(fs.stack); !st) fail("parameter 'manifest': " + st.message());
+    auto r = io::StackReader::create(fs.stack);
+    if (!r) fail("parameter 'manifest': " + r.message());
+    fs.reader = std::move(r).value();
+    auto info = fs.reader->info(0);
+    if (!info) fail("parameter 'manifest': " + info.message());
+    fs.grid = info->data_window;
+    return fs;
+}
+
+FrameStack open_frames(const FocalStackParams& p, OfxImageEffectHandle fx) {
+    const PixelFrame f1 = pixel_frame(fx, {1, 1});
+    auto fs = frame_stack(p, f1.display.width(), f1.display.height());
+    if (!fs) fail(fs.message());
+    if (fs->frames.empty()) fail("the stack has no references");
+    return std::move(fs).value();
+}
+
+class FocalStackEffect final : public Effect {
+public:
+    const char* label() const override { return "gdof Focal Stack"; }
+    const char* description() const override {
+        return "Generalized depth of field from a focus/aperture stack (Kosloff & Barsky, section 3): each pixel is "
+               "taken from the stack image whose depth of field best matches near/far focus surfaces.";
+    }
+    bool temporal_clip_access() const override { return true; }
+
+    void describe_in_context(OfxImageEffectHandle desc, const std::string& context) override {
+        define_clip(desc, kSource, "Source", {kOfxImageComponentRGBA, kOfxImageComponentRGB},
+                    context == kOfxImageEffectContextGeneral, true);
+        for (const char* c : {kNear, kFar})
+            define_clip(desc, c, c, {kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha}, true, false);
+        define_clip(desc, kOutput, "Output", {kOfxImageComponentRGBA, kOfxImageComponentRGB}, false, false);
+        ParamDefiner d(desc);
+        describe_focal_stack_params(d);
+    }
+
+    void clip_preferences(OfxImageEffectHandle fx, Props out) override {
+        const Clip src(fx, kSource);
+        const bool rgb = src.connected() && src.components() == kOfxImageComponentRGB;
+        out.set(clip_prop("OfxImageClipPropComponents_", kOutput).c_str(), rgb ? kOfxImageComponentRGB : kOfxImageComponentRGBA);
+        for (const char* c : {kSource, kNear, kFar, kOutput})
+            out.set(clip_prop("OfxImageClipPropDepth_", c).c_str(), kOfxBitDepthFloat);
+        out.set(kOfxImageEffectPropPreMultiplication, rgb ? kOfxImageOpaque : kOfxImagePreMultiplied);
+    }
+
+    bool region_of_definition(OfxImageEffectHandle fx, double time, OfxPointD scale, OfxRectD& rod) override {
+        const FocalStackParams p = read_focal_stack_params(ParamReader(fx, time));
+        if (p.stack_source == "files") {
+            const PixelFrame f1 = pixel_frame(fx, {1, 1});
+            rod = f1.to_canonical(f1.to_ofx(open_files(p).grid));
+            return true;
+        }
+        const Clip src(fx, kSource);
+        if (!src.connected()) return false;
+        rod = stack_rod(src, open_frames(p, fx));
+        return true;
+    }
+
+    void regions_of_interest(OfxImageEffectHandle fx, double time, OfxPointD, const OfxRectD& roi, Props out) override {
+        const FocalStackParams p = read_focal_stack_params(ParamReader(fx, time));
+        auto set = [&](const char* clip, const OfxRectD& r) {
+            out.set_doubles(clip_prop("OfxImageClipPropRoI_", clip).c_str(), {r.x1, r.y1, r.x2, r.y2});
+        };
+        set(kSource, p.stack_source == "frames" ? roi : OfxRectD{0, 0, 0, 0});
+        for (const char* c : {kNear, kFar}) {
+            const Clip clip(fx, c);  // maps: the whole map (it must match the stack's grid)
+            if (clip.connected()) set(c, clip.region_of_definition(time));
+        }
+    }
+
+    bool frames_needed(OfxImageEffectHandle fx, double time, Props out) override {
+        const FocalStackParams p = read_focal_stack_params(ParamReader(fx, time));
+        if (p.stack_source != "frames") return false;
+        std::vector<int> frames = open_frames(p, fx).frames;
+        std::sort(frames.begin(), frames.end());
+        std::vector<double> ranges;  // [first, last] pairs of runs of consecutive frames
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            if (!ranges.empty() && frames[i] <= ranges.back() + 1) ranges.back() = std::max(ranges.back(), double(frames[i]));
+            else ranges.insert(ranges.end(), {double(frames[i]), double(frames[i])});
+        }
+        out.set_doubles(clip_prop("OfxImageClipPropFrameRange_", kSource).c_str(), ranges);
+        return true;
+    }
+
+    void render(OfxImageEffectHandle fx, const RenderArgs& a) override {
+        const PixelFrame f = pixel_frame(fx, a.scale);
+        const FocalStackParams p = read_focal_stack_params(ParamReader(fx, a.time));
+        const ClipImage out(Clip(fx, kOutput), a.time);
+        if (!out.valid()) fail("the host gave no output image");
+        out.require({kOfxImageComponentRGBA, kOfxImageComponentRGB});
+        const Exec exec = render_exec(fx);
+        Image res = p.stack_source == "files" ? render_files(fx, p, f, a, exec) : render_frames(fx, p, f, a, exec);
+        if (exec.is_cancelled()) return;
+        write_rgba(res, f, out, a.window);
+    }
+
+private:
+    // The stack's extent: the union of the Source's RoD at the stack's frames
+    // (frames the clip does not have add nothing).
+    static OfxRectD stack_rod(const Clip& src, const FrameStack& fs) {
+        OfxRectD u{0, 0, 0, 0};
+        bool any = false;
+        for (int frame : fs.frames) {
+            const OfxRectD r = src.region_of_definition(frame);
+            if (r.x2 <= r.x1 || r.y2 <= r.y1) continue;
+            u = any ? OfxRectD{std::min(u.x1, r.x1), std::min(u.y1, r.y1), std::max(u.x2, r.x2), std::max(u.y2, r.y2)} : r;
+            any = true;
+        }
+        return u;
+    }
+
+    // Desired near/far over a grid of w x h pixels (the grid's gdof window for maps).
+    static DesiredFocus desired(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, double time,
+                                const Roi& grid, const Exec& exec) {
+        if (p.focus_source == "maps") {
+            Image maps[2];
+            const char* names[2] = {kNear, kFar};
+            for (int i = 0; i < 2; ++i) {
+                const Clip clip(fx, names[i]);
+                if (!clip.connected()) fail(std::string("focus from maps: the ") + names[i] + " clip is not connected");
+                const ClipImage img(clip, time);
+                if (!img.valid()) fail(std::string("clip '") + names[i] + "' has no image at this time");
+                img.require({kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha});
+                static const std::string rgba = "RGBA";
+                const int comp = img.ncomponents() == 1 ? (p.map_channel == "A" ? 0 : -1)
+                                                        : int(rgba.find(p.map_channel));
+                if (comp < 0 || comp >= img.ncomponents())
+                    fail(std::string("clip '") + names[i] + "' has no channel " + p.map_channel + " (parameter 'map_channel')");
+                maps[i] = Image::with_channels({"depth"}, grid);
+                read_components(img, f, maps[i], {{comp, 0}}, std::numeric_limits<float>::quiet_NaN());
+            }
+            auto d = desired_from_maps(maps[0], 0, maps[1], 0);
+            if (!d) fail("Near / Far maps: " + d.message());
+            return std::move(d).value();
+        }
+        if (p.focus_source == "surfaces_file" && p.surfaces.empty()) fail("parameter 'surfaces': give a surfaces file");
+        const std::string text = p.focus_source == "surfaces" ? surfaces_json(p) : read_file("surfaces", p.surfaces);
+        auto s = parse_focus_surfaces(text);
+        if (!s) fail((p.focus_source == "surfaces" ? std::string("near/far control points: ") : "parameter 'surfaces': ") + s.message());
+        auto d = desired_from_surfaces(*s, grid.width(), grid.height(), exec);
+        if (!d) fail(d.message());
+        return std::move(d).value();
+    }
+
+    static StackSelection select(const FocalStack& stack, const DesiredFocus& d, const CompositeSettings& cs,
+                                 const Exec& exec) {
+        std::vector<DepthInterval> limits;
+        for (const StackReference& r : stack.references) limits.push_back({r.near, r.far});
+        auto index = StackIndex::build(limits);
+        if (!index) fail("stack: " + index.message());
+        auto sel = select_references(*index, d, cs, exec);
+        if (!sel) fail(sel.message());
+        return std::move(sel).value();
+    }
+
+    Image render_frames(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
+                        const Exec& exec) {
+        const FrameStack fs = open_frames(p, fx);
+        const Clip src(fx, kSource);
+        if (!src.connected()) fail("the Source clip is not connected (stack_source = frames)");
+        const Roi grid = gdof_pixels(f, stack_rod(src, fs));
+        const Roi window = intersect(f.to_gdof(a.window), grid);
+        if (window.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
+        CompositeSettings cs;
+        cs.soft_k = p.soft;
+        const DesiredFocus whole = desired(fx, p, f, a.time, grid, exec);
+        const Roi local{window.x0 - grid.x0, window.y0 - grid.y0, window.x1 - grid.x0, window.y1 - grid.y0};
+        const StackSelection sel = select(fs.stack, crop(whole, local), cs, exec);
+
+        // Only the references some pixel chose are fetched.
+        std::vector<Image> refs(fs.frames.size());
+        const OfxRectD region = f.to_canonical(f.to_ofx(window));
+        for (int i : sel.used_references()) {
+            const ClipImage img(src, double(fs.frames[std::size_t(i)]), &region);
+            if (!img.valid())
+                fail("clip 'Source' has no image at frame " + std::to_string(fs.frames[std::size_t(i)]) + " (reference " +
+                     std::to_string(i) + ")");
+            img.require({kOfxImageComponentRGBA, kOfxImageComponentRGB});
+            refs[std::size_t(i)] = premultiplied_rgba(img, f, window);
+        }
+        std::vector<const Image*> ptrs;
+        for (Image& r : refs) {
+            if (r.data_window() != window) r = Image({}, window);  // never read
+            ptrs.push_back(&r);
+        }
+        MemoryStackPixels pixels(ptrs);
+        auto res = composite_stack(sel, pixels, cs, window.x0, window.y0, nullptr, exec);
+        if (!res && !exec.is_cancelled()) fail(res.message());
+        return res ? std::move(res).value() : Image();
+    }
+
+    Image render_files(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
+                       const Exec& exec) {
+        FileStack fs = open_files(p);
+        const bool full = f.sx == 1.0 && f.sy == 1.0;
+        if (!full && p.focus_source == "maps")
+            fail("Near / Far maps with stack_source = files need render scale 1 (the files are full resolution)");
+        // The window at full resolution (the files' pixels).
+        const Roi ws = f.to_gdof(a.window);
+        const Roi w1 = intersect(Roi{int(std::floor(ws.x0 / f.sx)), int(std::floor(ws.y0 / f.sy)),
+                                     int(std::ceil(ws.x1 / f.sx)), int(std::ceil(ws.y1 / f.sy))},
+                                 fs.grid);
+        if (w1.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
+        CompositeSettings cs;
+        cs.soft_k = p.soft;
+        const DesiredFocus whole = desired(fx, p, f, a.time, fs.grid, exec);
+        const Roi local{w1.x0 - fs.grid.x0, w1.y0 - fs.grid.y0, w1.x1 - fs.grid.x0, w1.y1 - fs.grid.y0};
+        const StackSelection sel = select(fs.stack, crop(whole, local), cs, exec);
+        ShiftedStackPixels pixels(*fs.reader, local.x0, local.y0);
+        auto res = composite_stack(sel, pixels, cs, w1.x0, w1.y0, nullptr, exec);
+        if (!res) {
+            if (exec.is_cancelled()) return Image();
+            fail("parameter 'manifest': " + res.message());
+        }
+        return full ? std::move(res).value() : reduce(*res, ws, f.sx, f.sy);
+    }
+};
+
+}  // namespace
+
+Effect& focal_stack_effect() {
+    static FocalStackEffect e;
+    return e;
+}
+
+}  // namespace gdof::ofx

@@ -1,0 +1,440 @@
+// Run time against error for the three methods (issue: one benchmark across
+// the methods). For each scene, resolution and blur field:
+//   ground truth   the ray tracer at a high fixed sample count (cached)
+//   raytrace       fixed 4..1024 spp and adaptive (caps 16..256)
+//   diffusion      adi / explicit on the renderer's deep output and on its
+//                  flat image + Z (the live-action path), several layer counts
+//   compositing    stacks of 4..48 ray-traced references, hard pick / soft 3
+//   gaussian       cv::GaussianBlur per depth slice (the naive baseline)
+// Every result is compared with the ground truth (PSNR, relative L1 / L2,
+// SSIM, relative L1 near depth discontinuities) and written as a CSV row.
+// Post-process times exclude producing their inputs (pinhole / deep renders,
+// stacks), as a compositor receives them; they are the best of 2 runs.
+//
+//   bench_methods --out DIR --cache DIR [--full] [--scenes a,b] [--fields a,b]
+//
+// --full adds 1920x1080 and 1024 spp. Scenes: "generated" (examples/render:
+// thin poles in front of a checker wall) and "cornell" (Cornell box + bunny
+// from ../shared/data/meshes, skipped when absent).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "gdof/compositing.h"
+#include "gdof/defocus.h"
+#include "gdof/focus_surfaces.h"
+#include "gdof/io/image_io.h"
+#include "gdof/layers.h"
+#include "gdof/raytrace.h"
+#include "gdof/render_stack.h"
+#include "gdof/scene.h"
+#include "methods/bench_metrics.h"
+#include "methods/gaussian_layers.h"
+
+using namespace gdof;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+struct Options {
+    std::string out = "bench_out", cache = "bench_cache";
+    bool full = false;
+    std::vector<std::string> scenes{"generated", "cornell"}, fields{"thin_lens", "two_planes", "region"};
+};
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> v;
+    std::stringstream ss(s);
+    for (std::string t; std::getline(ss, t, ',');) v.push_back(t);
+    return v;
+}
+
+[[noreturn]] void die(const std::string& what) {
+    std::fprintf(stderr, "bench_methods: error: %s\n", what.c_str());
+    std::exit(1);
+}
+
+template <class T>
+T take(Result<T>&& r, const std::string& what) {
+    if (!r) die(what + ": " + r.message());
+    return std::move(r).value();
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Best of `n` runs of f (which must produce the same result each time).
+template <class F>
+double best_time(int n, F&& f) {
+    double best = 1e300;
+    for (int i = 0; i < n; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        f();
+        best = std::min(best, seconds_since(t0));
+    }
+    return best;
+}
+
+// The scene JSON with another resolution (parsed from its own folder).
+Scene load_scene_at(const std::string& path, int w, int h) {
+    std::ifstream in(path);
+    if (!in) die("cannot read " + path);
+    json j = json::parse(in);
+    j["camera"]["resolution"] = {w, h};
+    return take(parse_scene(j.dump(), fs::path(path).parent_path().string()), path);
+}
+
+// Blur fields per scene: the camera's thin lens (physical), two focal planes,
+// a sphere of focus. Max blurs scale with the image width.
+// The thin lens keeps the scene camera's focus but opens the aperture until
+// the nearest geometry (znear) is blurred by 10 px per 640 px of width.
+std::string field_json(const std::string& scene, const std::string& field, const Camera& cam, double scale,
+                       double znear) {
+    const LensInfo& l = cam.lens();
+    char b[1024];
+    if (field == "thin_lens") {
+        ThinLens tl = take(cam.thin_lens(), "scene camera");
+        const double n = tl.f_number * tl.coc_radius_px(znear) / (10 * scale);
+        std::snprintf(b, sizeof b,
+                      R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": %g, "f_number": %g, "focus_distance": %g, "sensor_width_mm": %g}})",
+                      l.focal_length_mm, n, l.focus_distance, l.sensor_width_mm);
+    } else if (field == "two_planes") {
+        // generated: the poles (~3.6) and the checker wall (~10); cornell: the bunny (~3.3) and the back wall (~4.9).
+        const bool gen = scene == "generated";
+        std::snprintf(b, sizeof b, R"({"blurfield": {"kind": "focal_planes", "depths": [%g, %g], "max_blur": %g, "interpolation": "smooth"}})",
+                      gen ? 3.7 : 3.3, gen ? 9.5 : 4.9, 10 * scale);
+    } else {
+        // A sphere of focus around the middle of the scene; blur outside.
+        const bool gen = scene == "generated";
+        std::snprintf(b, sizeof b,
+                      R"({"blurfield": {"kind": "region", "shape": "sphere", "center": [%g, %g, %g], "radius": %g, "mode": "focus", "blur": %g, "falloff": %g}})",
+                      gen ? 0.0 : 0.33, gen ? 0.8 : 0.9, gen ? 0.0 : 0.3, gen ? 1.5 : 0.3, 10 * scale, gen ? 1.5 : 0.4);
+    }
+    return b;
+}
+
+struct Row {
+    std::string scene, field, method, setting;
+    int w = 0, h = 0;
+    double seconds = 0;
+    bench::ErrorMetrics m;
+    std::uint64_t rays = 0;
+};
+
+class Csv {
+public:
+    explicit Csv(const std::string& path) : out_(path) {
+        out_ << "scene,width,height,field,method,setting,seconds,psnr,rel_l1,rel_l2,ssim,edge_rel_l1,primary_rays\n";
+    }
+    void add(const Row& r) {
+        char b[512];
+        std::snprintf(b, sizeof b, "%s,%d,%d,%s,%s,%s,%.6g,%.4f,%.6g,%.6g,%.5f,%.6g,%llu\n", r.scene.c_str(), r.w, r.h,
+                      r.field.c_str(), r.method.c_str(), r.setting.c_str(), r.seconds, r.m.psnr, r.m.rel_l1, r.m.rel_l2,
+                      r.m.ssim, r.m.edge_rel_l1, (unsigned long long)r.rays);
+        out_ << b;
+        out_.flush();
+        std::fprintf(stderr, "  %-28s %-22s %8.3f s  rel L1 %.4f  edge %.4f  PSNR %.2f  SSIM %.4f\n", r.method.c_str(),
+                     r.setting.c_str(), r.seconds, r.m.rel_l1, r.m.edge_rel_l1, r.m.psnr, r.m.ssim);
+    }
+
+private:
+    std::ofstream out_;
+};
+
+// A cached image (EXR in the cache folder) or made now and cached.
+Image cached_flat(const std::string& path, const std::function<Image()>& make) {
+    if (fs::exists(path)) return take(io::read_flat(path), path);
+    Image img = make();
+    ImageSet set;
+    set.parts.push_back(img);
+    if (Status st = io::write_image(path, set); !st) die(st.message());
+    return img;
+}
+
+Image rgb_of(const Image& img) {  // R, G, B, A (float) over the same window
+    Image out = Image::with_channels({"R", "G", "B", "A"}, img.data_window());
+    for (int c = 0; c < 4; ++c) {
+        const int s = img.channel_index(std::string(1, "RGBA"[c]));
+        if (s >= 0) std::copy(img.plane(s), img.plane(s) + img.npixels(), out.plane(c));
+    }
+    return out;
+}
+
+struct Picture {  // for the error-map grid
+    std::string label;
+    Image image;
+};
+
+void write_grid(const std::string& png, const Image& truth, const std::vector<Picture>& pics, double scale) {
+    std::vector<cv::Mat> top, bottom;
+    const std::string tmp = png + ".part.png";
+    auto load = [&](const std::function<void()>& write, const std::string& label) {
+        write();
+        cv::Mat m = cv::imread(tmp);
+        cv::putText(m, label, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {255, 255, 255}, 2);
+        cv::putText(m, label, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1);
+        return m;
+    };
+    top.push_back(load([&] { bench::write_preview(tmp, truth); }, "ground truth"));
+    bottom.push_back(cv::Mat::zeros(top.back().size(), top.back().type()));
+    cv::putText(bottom.back(), "|error|, 0 .. " + std::to_string(scale).substr(0, 4), {6, 20}, cv::FONT_HERSHEY_SIMPLEX,
+                0.55, {255, 255, 255}, 1);
+    for (const Picture& p : pics) {
+        top.push_back(load([&] { bench::write_preview(tmp, p.image); }, p.label));
+        bottom.push_back(load([&] { bench::write_error_map(tmp, p.image, truth, scale); }, ""));
+    }
+    cv::Mat a, b, all;
+    cv::hconcat(top, a);
+    cv::hconcat(bottom, b);
+    cv::vconcat(a, b, all);
+    if (all.cols > 2400) cv::resize(all, all, {}, 2400.0 / all.cols, 2400.0 / all.cols, cv::INTER_AREA);
+    cv::imwrite(png, all);
+    fs::remove(tmp);
+}
+
+void run_scene(const Options& opt, const std::string& name, const std::string& path, int W, int H, Csv& csv) {
+    std::fprintf(stderr, "== %s %dx%d\n", name.c_str(), W, H);
+    const Scene scene = load_scene_at(path, W, H);
+    const auto tracer = take(RayTracer::build(scene), "building " + path);
+    const Camera& cam = scene.camera;
+    const double scale = W / 640.0;
+    const std::string cdir = opt.cache + "/" + name + "_" + std::to_string(W) + "x" + std::to_string(H);
+    fs::create_directories(cdir);
+
+    // Inputs of the post-process methods: the all-in-focus render (flat + Z/P) and its deep form.
+    // Inputs as clean as the ground truth (a compositor's plates are not noisy).
+    RenderSettings in;
+    in.pinhole = true;
+    in.spp = 1024;
+    in.adaptive_threshold = 0.002;
+    in.min_spp = 64;
+    const Image pinhole = cached_flat(cdir + "/pinhole_q.exr", [&] { return take(render(*tracer, in), "pinhole"); });
+    DeepImage deep;
+    {
+        const std::string dp = cdir + "/deep_q.exr";
+        if (!fs::exists(dp)) {
+            ImageSet s;
+            s.parts.emplace_back(take(render_deep(*tracer, in), "deep"));
+            if (Status st = io::write_image(dp, s); !st) die(st.message());
+        }
+        deep = take(io::read_image(dp), dp).deep(0);
+    }
+    const int zc = pinhole.channel_index("Z");
+    const std::vector<char> edges = bench::discontinuity_mask(pinhole.plane(zc), W, H, int(std::lround(4 * scale)));
+
+    // The stack: 12 focus distances (evenly in 1/distance over the scene's
+    // depth range) x 4 f-numbers, rendered once; smaller stacks are subsets.
+    std::vector<float> zs;
+    for (std::size_t i = 0; i < pinhole.npixels(); ++i)
+        if (std::isfinite(pinhole.plane(zc)[i])) zs.push_back(pinhole.plane(zc)[i]);
+    std::sort(zs.begin(), zs.end());
+    const double znear = zs[zs.size() / 50], zfar = zs[zs.size() * 49 / 50];
+    const double n0 = cam.lens().f_number;
+    RenderStackSpec spec;
+    for (int i = 0; i < 12; ++i)
+        for (double fn : {n0, 2 * n0, 4 * n0, 8 * n0}) {
+            const double t = i / 11.0;
+            spec.references.push_back({1.0 / ((1 - t) / znear + t / zfar), fn});
+        }
+    const FocalStack plan = take(plan_render_stack(cam, spec), "stack plan");
+    std::vector<Image> refs;
+    {
+        RenderSettings rs;
+        rs.spp = 128;
+        rs.min_spp = 16;
+        rs.adaptive_threshold = 0.01;
+        rs.aovs = 0;
+        for (std::size_t i = 0; i < plan.references.size(); ++i) {
+            const std::string p = cdir + "/stack_q_" + std::to_string(i) + ".exr";
+            refs.push_back(cached_flat(p, [&] {
+                RenderSettings r = rs;
+                LensInfo l = cam.lens();
+                l.f_number = plan.references[i].f_number;
+                l.focus_distance = plan.references[i].focus_distance;
+                r.lens = l;
+                return take(render(*tracer, r), "stack reference");
+            }));
+        }
+    }
+
+    for (const std::string& fname : opt.fields) {
+        std::fprintf(stderr, "-- field %s\n", fname.c_str());
+        const std::string fj = field_json(name, fname, cam, scale, znear);
+        std::fprintf(stderr, "   %s\n", fj.c_str());
+        const BlurField field = take(BlurField::parse(fj), fname);
+        const int gt_spp = W > 1000 ? 256 : 1024;
+        const std::string key = std::to_string(std::hash<std::string>{}(fj) % 1000000007u);  // the cache follows the field
+        const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
+            std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
+            RenderSettings rs;
+            rs.spp = gt_spp;
+            rs.adaptive_threshold = 0;
+            rs.seed = 0x5eed;
+            rs.blur_field = &field;
+            rs.aovs = 0;
+            return take(render(*tracer, rs), "ground truth");
+        }));
+        auto row = [&](const std::string& method, const std::string& setting, double secs, const Image& img,
+                       std::uint64_t rays = 0) {
+            Row r{name, fname, method, setting, W, H, secs, bench::compare(rgb_of(img), truth, edges), rays};
+            csv.add(r);
+        };
+        std::map<std::string, Image> best;  // for the picture grid
+
+        // Ray tracing.
+        std::vector<int> fixed = {4, 16, 64, 256};
+        if (opt.full) fixed.push_back(1024);
+        for (int spp : fixed) {
+            if (spp >= gt_spp) continue;
+            RenderSettings rs;
+            rs.spp = spp;
+            rs.adaptive_threshold = 0;
+            rs.blur_field = &field;
+            rs.aovs = 0;
+            RenderStats st;
+            Image img = take(render(*tracer, rs, &st), "raytrace");
+            row("raytrace fixed", "spp=" + std::to_string(spp), st.seconds, img, st.primary_rays);
+        }
+        for (int cap : {16, 64, 256}) {
+            RenderSettings rs;
+            rs.spp = cap;
+            rs.min_spp = 4;
+            rs.adaptive_threshold = 0.02;
+            rs.blur_field = &field;
+            rs.aovs = 0;
+            RenderStats st;
+            Image img = take(render(*tracer, rs, &st), "raytrace adaptive");
+            row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
+            if (cap == 64) best["raytrace adaptive 64"] = std::move(img);
+        }
+
+        // Diffusion (method 3) on the deep render and on flat + Z.
+        ImageSet deep_set, flat_set;
+        deep_set.parts.emplace_back(deep);
+        flat_set.parts.emplace_back(pinhole);
+        struct Diff {
+            std::string input, layers;
+            DiffusionSolver solver;
+            int adi_steps;
+        };
+        const std::vector<Diff> diffs = {
+            {"deep", "auto", DiffusionSolver::Adi, 0},       {"deep", "auto", DiffusionSolver::Adi, 4},
+            {"deep", "auto", DiffusionSolver::Adi, 16},      {"deep", "4", DiffusionSolver::Adi, 0},
+            {"deep", "8", DiffusionSolver::Adi, 0},          {"deep", "16", DiffusionSolver::Adi, 0},
+            {"deep", "auto", DiffusionSolver::Explicit, 0},  {"deep", "8", DiffusionSolver::Explicit, 0},
+            {"flat+Z", "auto", DiffusionSolver::Adi, 0},     {"flat+Z", "8", DiffusionSolver::Adi, 0},
+            {"flat+Z", "16", DiffusionSolver::Adi, 0},       {"flat+Z", "8", DiffusionSolver::Explicit, 0},
+        };
+        for (const Diff& d : diffs) {
+            DefocusSettings ds;
+            ds.diffusion.solver = d.solver;
+            ds.diffusion.adi_steps = d.adi_steps;
+            ds.split = take(parse_layer_split(d.layers), "layers");
+            ImageSet result;
+            const double secs = best_time(2, [&] {
+                result = take(defocus(d.input == "deep" ? deep_set : flat_set, field, cam, ds), "defocus");
+            });
+            const std::string method = std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
+            const std::string setting = "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "");
+            row(method, setting, secs, result.flat(0));
+            if (d.input == "deep" && d.layers == "auto" && d.solver == DiffusionSolver::Adi && d.adi_steps == 0)
+                best["diffusion adi (deep)"] = result.flat(0);
+        }
+
+        // Compositing (method 2): desired near/far from the field and the pinhole Z.
+        BlurFocusSettings bfs;
+        bfs.coc_px = plan.coc_px;
+        const DesiredFocus desired = take(desired_from_blur_field(field, cam, pinhole, bfs), "desired focus");
+        for (int n : {4, 8, 16, 24, 48}) {
+            // Subsets: n <= 12: n focus distances at the scene's f-number;
+            // more: 12 distances x the first n / 12 f-numbers.
+            std::vector<int> pick;
+            if (n <= 12) {
+                for (int k = 0; k < n; ++k) pick.push_back(4 * int(std::lround(k * 11.0 / std::max(1, n - 1))));
+            } else {
+                for (int i = 0; i < 12; ++i)
+                    for (int f = 0; f < n / 12; ++f) pick.push_back(4 * i + f);
+            }
+            std::vector<DepthInterval> iv;
+            std::vector<const Image*> imgs;
+            for (int k : pick) iv.push_back({plan.references[std::size_t(k)].near, plan.references[std::size_t(k)].far}),
+                imgs.push_back(&refs[std::size_t(k)]);
+            const StackIndex index = take(StackIndex::build(iv), "stack index");
+            for (int soft : {1, 3}) {
+                CompositeSettings cs;
+                cs.soft_k = soft;
+                Image out;
+                const double secs = best_time(2, [&] {
+                    MemoryStackPixels px(imgs);
+                    StackSelection sel = take(select_references(index, desired, cs), "select");
+                    out = take(composite_stack(sel, px, cs), "composite");
+                });
+                row(soft == 1 ? "compositing hard" : "compositing soft3", "refs=" + std::to_string(n), secs, out);
+                if (n == 48 && soft == 1) best["compositing 48 hard"] = out;
+            }
+        }
+
+        // The naive baseline: per-slice Gaussian blur.
+        for (int slices : {4, 8, 16}) {
+            Image out;
+            const double secs =
+                best_time(2, [&] { out = take(bench::gaussian_layers(pinhole, field, cam, slices), "gaussian"); });
+            row("gaussian layers (cv)", "slices=" + std::to_string(slices), secs, out);
+            if (slices == 8) best["gaussian 8 slices"] = out;
+        }
+
+        if (W == 640) {
+            std::vector<Picture> pics;
+            for (const char* k : {"raytrace adaptive 64", "diffusion adi (deep)", "compositing 48 hard", "gaussian 8 slices"})
+                if (best.count(k)) pics.push_back({k, best[k]});
+            write_grid(opt.out + "/errors_" + name + "_" + fname + ".png", truth, pics, 0.1);
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options opt;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) die(a + ": missing value");
+            return argv[++i];
+        };
+        if (a == "--out") opt.out = next();
+        else if (a == "--cache") opt.cache = next();
+        else if (a == "--full") opt.full = true;
+        else if (a == "--scenes") opt.scenes = split(next());
+        else if (a == "--fields") opt.fields = split(next());
+        else die("unknown argument '" + a + "' (--out DIR --cache DIR [--full] [--scenes a,b] [--fields a,b])");
+    }
+    fs::create_directories(opt.out);
+    fs::create_directories(opt.cache);
+    Csv csv(opt.out + "/results.csv");
+    const std::string examples = GDOF_SOURCE_DIR "/examples/render/";
+    std::vector<std::pair<int, int>> sizes = {{640, 360}};
+    if (opt.full) sizes.push_back({1920, 1080});
+    for (const std::string& s : opt.scenes) {
+        const std::string path = examples + s + ".json";
+        if (s == "cornell" && !fs::exists(GDOF_SOURCE_DIR "/../shared/data/meshes/CornellBox-Original.obj")) {
+            std::fprintf(stderr, "skipping cornell: ../shared/data/meshes is absent\n");
+            continue;
+        }
+        for (auto [w, h] : sizes) run_scene(opt, s, path, w, h, csv);
+    }
+    return 0;
+}
