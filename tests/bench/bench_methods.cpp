@@ -164,11 +164,17 @@ Image cached_flat(const std::string& path, const std::function<Image()>& make) {
     return img;
 }
 
-Image rgb_of(const Image& img) {  // R, G, B, A (float) over the same window
-    Image out = Image::with_channels({"R", "G", "B", "A"}, img.data_window());
+// R, G, B, A (float) over `window` (the frame): results whose data window
+// differs (a defocused layer grown past, or not covering, the frame) are
+// cropped or zero-padded.
+Image rgb_of(const Image& img, const Roi& window) {
+    Image out = Image::with_channels({"R", "G", "B", "A"}, window);
+    const Roi dw = img.data_window();
     for (int c = 0; c < 4; ++c) {
         const int s = img.channel_index(std::string(1, "RGBA"[c]));
-        if (s >= 0) std::copy(img.plane(s), img.plane(s) + img.npixels(), out.plane(c));
+        if (s < 0) continue;
+        for (int y = std::max(window.y0, dw.y0); y < std::min(window.y1, dw.y1); ++y)
+            for (int x = std::max(window.x0, dw.x0); x < std::min(window.x1, dw.x1); ++x) out.at(c, x, y) = img.at(s, x, y);
     }
     return out;
 }
@@ -277,6 +283,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         const BlurField field = take(BlurField::parse(fj), fname);
         const int gt_spp = W > 1000 ? 256 : 1024;
         const std::string key = std::to_string(std::hash<std::string>{}(fj) % 1000000007u);  // the cache follows the field
+        const Roi frame = cam.display_window();
         const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
             std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
             RenderSettings rs;
@@ -286,10 +293,10 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             rs.blur_field = &field;
             rs.aovs = 0;
             return take(render(*tracer, rs), "ground truth");
-        }));
+        }), frame);
         auto row = [&](const std::string& method, const std::string& setting, double secs, const Image& img,
                        std::uint64_t rays = 0) {
-            Row r{name, fname, method, setting, W, H, secs, bench::compare(rgb_of(img), truth, edges), rays};
+            Row r{name, fname, method, setting, W, H, secs, bench::compare(rgb_of(img, frame), truth, edges), rays};
             csv.add(r);
         };
         std::map<std::string, Image> best;  // for the picture grid
@@ -318,7 +325,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             RenderStats st;
             Image img = take(render(*tracer, rs, &st), "raytrace adaptive");
             row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
-            if (cap == 64) best["raytrace adaptive 64"] = std::move(img);
+            if (cap == 64) best["raytrace adaptive 64"] = rgb_of(img, frame);
         }
 
         // Diffusion (method 3) on the deep render and on flat + Z.
@@ -351,7 +358,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             const std::string setting = "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "");
             row(method, setting, secs, result.flat(0));
             if (d.input == "deep" && d.layers == "auto" && d.solver == DiffusionSolver::Adi && d.adi_steps == 0)
-                best["diffusion adi (deep)"] = result.flat(0);
+                best["diffusion adi (deep)"] = rgb_of(result.flat(0), frame);
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
@@ -383,7 +390,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                     out = take(composite_stack(sel, px, cs), "composite");
                 });
                 row(soft == 1 ? "compositing hard" : "compositing soft3", "refs=" + std::to_string(n), secs, out);
-                if (n == 48 && soft == 1) best["compositing 48 hard"] = out;
+                if (n == 48 && soft == 1) best["compositing 48 hard"] = rgb_of(out, frame);
             }
         }
 
@@ -393,7 +400,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             const double secs =
                 best_time(2, [&] { out = take(bench::gaussian_layers(pinhole, field, cam, slices), "gaussian"); });
             row("gaussian layers (cv)", "slices=" + std::to_string(slices), secs, out);
-            if (slices == 8) best["gaussian 8 slices"] = out;
+            if (slices == 8) best["gaussian 8 slices"] = rgb_of(out, frame);
         }
 
         if (W == 640) {
