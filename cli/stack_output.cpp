@@ -3,10 +3,7 @@
 // manifest.json beside them, written last (temporary file + rename) so a
 // failed run never leaves a manifest pointing at missing or half-written
 // images. Shared by --lightfield and --render --stack.
-#include <unistd.h>
-
 #include <filesystem>
-#include <fstream>
 
 #include "cli.h"
 #include "gdof/io/image_io.h"
@@ -15,32 +12,6 @@
 namespace gdof::cli {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-    const fs::path target(path);
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".gdof-tmp-" + std::to_string(::getpid()));
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            runtime_error("writing '" + path + "': cannot write '" + tmp.string() + "'");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        std::error_code ec2;
-        fs::remove(tmp, ec2);
-        runtime_error("writing '" + path + "': " + ec.message());
-    }
-}
-
-}  // namespace
 
 void check_stack_pattern(const std::string& pattern, const std::string& producer) {
     if (!io::has_frame_pattern(pattern))
@@ -81,7 +52,7 @@ Status StackOutput::write(std::size_t i, Image&& image) const {
 void StackOutput::write_manifest(FocalStack stack) const {
     for (std::size_t i = 0; i < stack.references.size() && i < names_.size(); ++i)
         stack.references[i].file = fs::path(names_[i]).filename().string();
-    write_text_atomically(manifest_, format_stack_manifest(stack));
+    check(io::write_text(manifest_, format_stack_manifest(stack)));
     if (frame_.session->global.verbose) frame_.session->progress.message("gdof: wrote " + manifest_);
 }
 

@@ -138,6 +138,8 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
     }
     std::vector<std::vector<rt::DeepSurface>> deep_pixels(deep ? disp.npixels() : 0);
     const bool want_id = (settings.aovs & kAovId) != 0;
+    // Unjittered pinhole: sample 0 is the central ray, its hit gives the id.
+    const bool sample0_central = setup.mode == Mode::Pinhole && !(settings.pixel_jitter && settings.spp > 1);
 
     rt::LightSampler lights(scene);
     // A visible (non-black) environment is part of the picture: alpha 1.
@@ -255,7 +257,6 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
                     }
                     // The id is the object on the pixel's central ray.
                     std::uint32_t id = 0;
-                    const bool sample0_central = setup.mode == Mode::Pinhole && !(settings.pixel_jitter && settings.spp > 1);
                     if (want_id && flat && sample0_central) {
                         id = samples[0].hit ? samples[0].id : 0;
                     } else if (want_id && flat) {

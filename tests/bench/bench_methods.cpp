@@ -185,22 +185,18 @@ struct Picture {  // for the error-map grid
 };
 
 void write_grid(const std::string& png, const Image& truth, const std::vector<Picture>& pics, double scale) {
-    std::vector<cv::Mat> top, bottom;
-    const std::string tmp = png + ".part.png";
-    auto load = [&](const std::function<void()>& write, const std::string& label) {
-        write();
-        cv::Mat m = cv::imread(tmp);
-        cv::putText(m, label, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {255, 255, 255}, 2);
-        cv::putText(m, label, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1);
+    auto label = [](cv::Mat m, const std::string& text) {
+        cv::putText(m, text, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {255, 255, 255}, 2);
+        cv::putText(m, text, {6, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1);
         return m;
     };
-    top.push_back(load([&] { bench::write_preview(tmp, truth); }, "ground truth"));
-    bottom.push_back(cv::Mat::zeros(top.back().size(), top.back().type()));
+    std::vector<cv::Mat> top{label(bench::preview(truth), "ground truth")};
+    std::vector<cv::Mat> bottom{cv::Mat::zeros(top.back().size(), top.back().type())};
     cv::putText(bottom.back(), "|error|, 0 .. " + std::to_string(scale).substr(0, 4), {6, 20}, cv::FONT_HERSHEY_SIMPLEX,
                 0.55, {255, 255, 255}, 1);
     for (const Picture& p : pics) {
-        top.push_back(load([&] { bench::write_preview(tmp, p.image); }, p.label));
-        bottom.push_back(load([&] { bench::write_error_map(tmp, p.image, truth, scale); }, ""));
+        top.push_back(label(bench::preview(p.image), p.label));
+        bottom.push_back(bench::error_map(p.image, truth, scale));
     }
     cv::Mat a, b, all;
     cv::hconcat(top, a);
@@ -208,7 +204,6 @@ void write_grid(const std::string& png, const Image& truth, const std::vector<Pi
     cv::vconcat(a, b, all);
     if (all.cols > 2400) cv::resize(all, all, {}, 2400.0 / all.cols, 2400.0 / all.cols, cv::INTER_AREA);
     cv::imwrite(png, all);
-    fs::remove(tmp);
 }
 
 void run_scene(const Options& opt, const std::string& name, const std::string& path, int W, int H, Csv& csv) {

@@ -494,7 +494,7 @@ Rendered Instance::render(double time, OfxPointD scale, const std::vector<OfxRec
     r.px.assign(std::size_t(std::max(0, r.bounds.x2 - r.bounds.x1)) * std::size_t(std::max(0, r.bounds.y2 - r.bounds.y1)) *
                     std::size_t(r.ncomp),
                 std::numeric_limits<float>::quiet_NaN());
-    std::vector<OfxRectI> todo = tiles.empty() ? std::vector<OfxRectI>{r.bounds} : tiles;
+    std::vector<OfxRectI> to_render = tiles.empty() ? std::vector<OfxRectI>{r.bounds} : tiles;
 
     PropertySet seq;
     seq.set_d(kOfxImageEffectPropFrameRange, {time, time});
@@ -506,14 +506,14 @@ Rendered Instance::render(double time, OfxPointD scale, const std::vector<OfxRec
     host_.call(plugin_, kOfxImageEffectActionBeginSequenceRender, fx_.get(), &seq, nullptr);
 
     std::mutex out_mu;
-    std::vector<OfxStatus> status(todo.size(), kOfxStatOK);
+    std::vector<OfxStatus> status(to_render.size(), kOfxStatOK);
     if (concurrent) {
         std::vector<std::thread> threads;
-        for (std::size_t i = 0; i < todo.size(); ++i)
-            threads.emplace_back([&, i] { status[i] = render_tile(time, scale, todo[i], r, out_mu); });
+        for (std::size_t i = 0; i < to_render.size(); ++i)
+            threads.emplace_back([&, i] { status[i] = render_tile(time, scale, to_render[i], r, out_mu); });
         for (auto& t : threads) t.join();
     } else {
-        for (std::size_t i = 0; i < todo.size(); ++i) status[i] = render_tile(time, scale, todo[i], r, out_mu);
+        for (std::size_t i = 0; i < to_render.size(); ++i) status[i] = render_tile(time, scale, to_render[i], r, out_mu);
     }
     host_.call(plugin_, kOfxImageEffectActionEndSequenceRender, fx_.get(), &seq, nullptr);
     r.status = kOfxStatOK;

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
+#include "gdof/io/image_io.h"
 #include "io_internal.h"
 
 namespace gdof::io::detail {
@@ -52,3 +54,17 @@ Status atomic_write(const std::string& target, const std::function<Status(const 
 }
 
 }  // namespace gdof::io::detail
+
+namespace gdof::io {
+
+Status write_text(const std::string& path, const std::string& text) {
+    return detail::atomic_write(path, [&](const std::string& tmp) -> Status {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.flush();
+        if (!out) return Status::error(detail::quoted(path) + ": cannot write '" + tmp + "'");
+        return {};
+    });
+}
+
+}  // namespace gdof::io

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace gdof::bench {
@@ -94,7 +93,7 @@ ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<
     return m;
 }
 
-void write_error_map(const std::string& png, const Image& result, const Image& truth, double scale) {
+cv::Mat error_map(const Image& result, const Image& truth, double scale) {
     const Rgb a = rgb(result), b = rgb(truth);
     cv::Mat m(truth.height(), truth.width(), CV_8U);
     for (std::size_t i = 0; i < truth.npixels(); ++i) {
@@ -105,10 +104,10 @@ void write_error_map(const std::string& png, const Image& result, const Image& t
     }
     cv::Mat colour;
     cv::applyColorMap(m, colour, cv::COLORMAP_INFERNO);
-    cv::imwrite(png, colour);
+    return colour;
 }
 
-void write_preview(const std::string& png, const Image& img) {
+cv::Mat preview(const Image& img) {
     const Rgb c = rgb(img);
     cv::Mat m(img.height(), img.width(), CV_8UC3);
     for (std::size_t i = 0; i < img.npixels(); ++i) {
@@ -117,7 +116,7 @@ void write_preview(const std::string& png, const Image& img) {
         p[1] = (unsigned char)std::lround(255 * srgb(c.g[i]));
         p[2] = (unsigned char)std::lround(255 * srgb(c.r[i]));
     }
-    cv::imwrite(png, m);
+    return m;
 }
 
 }  // namespace gdof::bench

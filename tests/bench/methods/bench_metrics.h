@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "gdof/image.h"
 
 namespace gdof::bench {
@@ -24,9 +26,9 @@ std::vector<char> discontinuity_mask(const float* z, int w, int h, int radius);
 // R, G, B of both images over the same window (premultiplied linear).
 ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<char>& edge_mask);
 
-// |result - truth| luminance as a false-colour PNG (0 .. scale -> dark .. bright).
-void write_error_map(const std::string& png, const Image& result, const Image& truth, double scale);
-// The image itself, sRGB-encoded PNG (for the picture grid).
-void write_preview(const std::string& png, const Image& img);
+// |result - truth| luminance in false colour (0 .. scale -> dark .. bright), 8-bit BGR.
+cv::Mat error_map(const Image& result, const Image& truth, double scale);
+// The image itself, sRGB-encoded, 8-bit BGR (for the picture grid).
+cv::Mat preview(const Image& img);
 
 }  // namespace gdof::bench

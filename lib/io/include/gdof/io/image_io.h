@@ -67,6 +67,10 @@ Status write_image(const std::string& path, const ImageSet& images, const WriteO
 Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
 Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
 
+// A text file (a stack manifest, JSON) written atomically like the images:
+// a temporary file beside the target, renamed over it on success.
+Status write_text(const std::string& path, const std::string& text);
+
 // Human-readable description of a file's contents for `gdof --info`:
 // parts, layers and channels with types, windows, deep sample statistics,
 // camera and lens attributes.
