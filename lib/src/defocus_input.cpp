@@ -52,10 +52,8 @@ std::string channel_list(const Image& img) {
 }
 
 // Largest finite blur radius of a flat image (P, or depth + camera per `source`).
-Result<double> largest_radius(const Image& img, const BlurField& field, const Camera& camera,
-                              const PositionSource& source, const Exec& exec) {
-    std::vector<float> r(img.npixels());
-    if (Status st = evaluate_blur_map(field, camera, img, source, r.data(), exec); !st) return st;
+// The largest finite value (0 if none).
+double largest_finite(const std::vector<float>& r) {
     double m = 0.0;
     for (float v : r)
         if (std::isfinite(v)) m = std::max(m, double(v));
@@ -139,19 +137,18 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
             return Status::error("defocus: the deep part has no R, G, B, A channels (it has " +
                                  std::to_string(d.nchannels()) + " channels)");
         if (d.z_channel() < 0) return Status::error("defocus: the deep part has no depth channel 'Z'");
-        layers = layers_from_deep(d, settings.split, exec);
+        // Every sample's blur: it places Auto's blur cuts and bounds the extension.
+        std::vector<float> r(d.total_samples());
+        if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
+            return st.prefix("defocus: blur field");
+        const bool cut = settings.split.blur_cuts != LayerSplit::BlurCuts::Off;
+        layers = layers_from_deep(d, settings.split, exec, cut ? std::span<const float>(r) : std::span<const float>());
         if (layers) {
             // Deep renders keep only visible samples: extend each layer behind
             // the nearer layers that fully hide it, as far as the largest blur
             // can reveal (not into genuinely empty, transparent areas).
-            std::vector<float> r(d.total_samples());
-            if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
-                return st.prefix("defocus: blur field");
-            double rmax = 0.0;
-            for (float v : r)
-                if (std::isfinite(v)) rmax = std::max(rmax, double(v));
             ExtendBehind ext;
-            ext.extend_px = std::min(rmax, settings.diffusion.max_radius);
+            ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
             ext.occluder_alpha = 0.999f;
             if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
         }
@@ -172,9 +169,11 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
         SliceOptions so;
         so.split = settings.split;
         so.source = settings.source;
-        auto ext = largest_radius(*flat, field, camera, settings.source, exec);
-        if (!ext) return ext.status().prefix("defocus: blur field");
-        so.extend_px = std::min(*ext, settings.diffusion.max_radius);
+        std::vector<float> r(flat->npixels());
+        if (Status st = evaluate_blur_map(field, camera, *flat, settings.source, r.data(), exec); !st)
+            return st.prefix("defocus: blur field");
+        so.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
+        if (settings.split.blur_cuts == LayerSplit::BlurCuts::On) so.radius = r;
         layers = layers_from_depth_map(*flat, so, exec);
     }
     const double t_layers = seconds_since(t0);

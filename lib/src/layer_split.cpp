@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <sstream>
 
 #include "layers_internal.h"
 
@@ -30,13 +32,33 @@ Result<LayerSplit> parse_layer_split(const std::string& text) {
         return s;
     }
     if (text.rfind("auto:", 0) == 0) {
-        int n = 0;
-        const std::string rest = text.substr(5);
-        if (!parse_int(rest, n) || n < 1 || n > kMaxCount)
-            return Status::error("layer split '" + text + "': the most layers after 'auto:' must be an integer in 1.." +
-                                 std::to_string(kMaxCount) + ", got '" + rest + "'");
         s.mode = LayerSplit::Mode::Auto;
-        s.max_layers = n;
+        std::stringstream ss(text.substr(5));
+        for (std::string opt; std::getline(ss, opt, ':');) {
+            int n = 0;
+            if (opt == "gaps") {
+                s.blur_cuts = LayerSplit::BlurCuts::Off;
+            } else if (opt == "blur") {
+                s.blur_cuts = LayerSplit::BlurCuts::On;
+            } else if (opt.rfind("blur=", 0) == 0) {
+                const std::string v = opt.substr(5);
+                char* end = nullptr;
+                const double step = std::strtod(v.c_str(), &end);
+                if (v.empty() || *end != '\0' || !(step > 0.0) || !(step <= 1e6))
+                    return Status::error("layer split '" + text + "': the blur step after 'blur=' must be a number of px in (0, 1e6], got '" + v + "'");
+                s.blur_cuts = LayerSplit::BlurCuts::On;
+                s.blur_step = step;
+            } else if (parse_int(opt, n)) {
+                if (n < 1 || n > kMaxCount)
+                    return Status::error("layer split '" + text + "': the most layers after 'auto:' must be in 1.." +
+                                         std::to_string(kMaxCount) + ", got '" + opt + "'");
+                s.max_layers = n;
+            } else {
+                return Status::error("layer split '" + text + "': unknown auto option '" + opt +
+                                     "' (expected the most layers, 'blur', 'blur=STEP' or 'gaps')");
+            }
+        }
+        if (text.back() == ':') return Status::error("layer split '" + text + "': empty option after ':'");
         return s;
     }
     if (text == "id") {
@@ -105,52 +127,123 @@ DepthSlices count_slices(double zmin, double zmax, bool any_inf, int count) {
     return s;
 }
 
-DepthSlices auto_slices(const std::vector<double>& logs, double zmin, double zmax, bool any_inf, int max_layers) {
-    DepthSlices single;
-    single.lo = {zmin};
-    single.hi = {any_inf ? kInf : zmax};
-    const std::size_t n = logs.size();
-    if (n == 0 || max_layers <= 1) return single;
-    const double vmin = std::log(zmin), vmax = std::log(zmax);
-    const double range = vmax - vmin;
-    if (!(range >= kAutoMinGap)) return single;
-    const double want = kAutoMinGap / 4.0;
-    const long nbins = std::clamp(long(std::ceil(range / want)), 16L, 65536L);
-    const double binw = range / double(nbins);
-    std::vector<std::size_t> hist(std::size_t(nbins), 0);
-    for (double v : logs) {
-        long b = long((v - vmin) / binw);
-        b = std::clamp(b, 0L, nbins - 1);
-        ++hist[std::size_t(b)];
-    }
-    const std::size_t noise = std::size_t(double(n) * kAutoNoiseFraction);
+// Log-depth histogram shared by the gap search and the blur cuts.
+struct LogHistogram {
+    double vmin = 0, binw = 1;
+    long nbins = 0;
+    std::vector<std::size_t> count;
+    std::vector<double> rsum;         // sum of finite radii per bin
+    std::vector<std::size_t> rcount;  // number of finite radii per bin
+    long bin_of(double v) const { return std::clamp(long((v - vmin) / binw), 0L, nbins - 1); }
+    double edge_depth(long b) const { return std::exp(vmin + double(b) * binw); }
+};
+
+// Gap splits (depths), ascending: at most max_layers - 1 of the widest gaps.
+std::vector<double> gap_splits(const LogHistogram& h, std::size_t nsamples, int max_layers) {
+    const std::size_t noise = std::size_t(double(nsamples) * kAutoNoiseFraction);
     struct Gap {
         double width, split;
     };
     std::vector<Gap> gaps;
     long b = 0;
-    while (b < nbins) {
-        if (hist[std::size_t(b)] > noise) {
+    while (b < h.nbins) {
+        if (h.count[std::size_t(b)] > noise) {
             ++b;
             continue;
         }
         const long start = b;
-        while (b < nbins && hist[std::size_t(b)] <= noise) ++b;
+        while (b < h.nbins && h.count[std::size_t(b)] <= noise) ++b;
         const long end = b;  // run [start, end)
-        if (start == 0 || end == nbins) continue;
-        const double width = double(end - start) * binw;
+        if (start == 0 || end == h.nbins) continue;
+        const double width = double(end - start) * h.binw;
         if (width < kAutoMinGap) continue;
-        gaps.push_back({width, std::exp(vmin + 0.5 * double(start + end) * binw)});
+        gaps.push_back({width, std::exp(h.vmin + 0.5 * double(start + end) * h.binw)});
     }
     const std::size_t keep = std::size_t(std::max(0, max_layers - 1));
     if (gaps.size() > keep) {
         std::stable_sort(gaps.begin(), gaps.end(), [](const Gap& a, const Gap& c) { return a.width > c.width; });
         gaps.resize(keep);
     }
-    std::sort(gaps.begin(), gaps.end(), [](const Gap& a, const Gap& c) { return a.split < c.split; });
+    std::vector<double> splits;
+    for (const Gap& g : gaps) splits.push_back(g.split);
+    std::sort(splits.begin(), splits.end());
+    return splits;
+}
+
+// Blur cuts inside the clusters between `gaps`: walking the bins front to
+// back, a cut (at a bin's near edge) whenever the bin-mean radii since the
+// last cut or gap would span more than `step`.
+std::vector<double> blur_cuts(const LogHistogram& h, const std::vector<double>& gaps, double step) {
+    std::vector<double> cuts;
+    std::size_t next_gap = 0;
+    bool open = false;
+    double lo = 0, hi = 0;
+    for (long b = 0; b < h.nbins; ++b) {
+        const double centre = std::exp(h.vmin + (double(b) + 0.5) * h.binw);
+        while (next_gap < gaps.size() && centre >= gaps[next_gap]) {
+            ++next_gap;
+            open = false;  // a new cluster
+        }
+        if (h.rcount[std::size_t(b)] == 0) continue;
+        const double m = h.rsum[std::size_t(b)] / double(h.rcount[std::size_t(b)]);
+        if (open && std::max(hi, m) - std::min(lo, m) > step) {
+            cuts.push_back(h.edge_depth(b));
+            open = false;
+        }
+        if (!open) {
+            lo = hi = m;
+            open = true;
+        }
+        lo = std::min(lo, m);
+        hi = std::max(hi, m);
+    }
+    return cuts;
+}
+
+DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float>& radii, double zmin, double zmax,
+                        bool any_inf, const LayerSplit& split) {
+    DepthSlices single;
+    single.lo = {zmin};
+    single.hi = {any_inf ? kInf : zmax};
+    const std::size_t n = logs.size();
+    const bool cut_by_blur = !radii.empty() && split.blur_cuts != LayerSplit::BlurCuts::Off;
+    if (n == 0 || split.max_layers <= 1) return single;
+    LogHistogram h;
+    h.vmin = std::log(zmin);
+    const double range = std::log(zmax) - h.vmin;
+    const bool find_gaps = range >= kAutoMinGap;
+    if (!find_gaps && !(cut_by_blur && range > 0.0)) return single;
+    h.nbins = std::clamp(long(std::ceil(range / (kAutoMinGap / 4.0))), 16L, 65536L);
+    h.binw = range / double(h.nbins);
+    h.count.assign(std::size_t(h.nbins), 0);
+    h.rsum.assign(std::size_t(h.nbins), 0.0);
+    h.rcount.assign(std::size_t(h.nbins), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t b = std::size_t(h.bin_of(logs[i]));
+        ++h.count[b];
+        if (cut_by_blur && std::isfinite(radii[i])) {
+            h.rsum[b] += double(radii[i]);
+            ++h.rcount[b];
+        }
+    }
+    std::vector<double> bounds = find_gaps ? gap_splits(h, n, split.max_layers) : std::vector<double>{};
+    if (cut_by_blur) {
+        double rmax = 0.0;
+        for (long b = 0; b < h.nbins; ++b)
+            if (h.rcount[std::size_t(b)]) rmax = std::max(rmax, h.rsum[std::size_t(b)] / double(h.rcount[std::size_t(b)]));
+        double step = split.blur_step > 0.0 ? split.blur_step : std::max(kAutoBlurStepPx, rmax / kAutoBlurLayers);
+        std::vector<double> cuts;
+        for (int tries = 0; tries < 200; ++tries, step *= 1.25) {
+            cuts = blur_cuts(h, bounds, step);
+            if (bounds.size() + cuts.size() + 1 <= std::size_t(split.max_layers)) break;
+            cuts.clear();
+        }
+        bounds.insert(bounds.end(), cuts.begin(), cuts.end());
+        std::sort(bounds.begin(), bounds.end());
+    }
     DepthSlices s;
-    for (const Gap& g : gaps) s.bounds.push_back(g.split);
-    // Nominal intervals: the sample range of each cluster.
+    s.bounds = std::move(bounds);
+    // Nominal intervals: the sample range of each slice.
     const int k = s.count();
     s.lo.assign(std::size_t(k), kInf);
     s.hi.assign(std::size_t(k), -kInf);
@@ -167,12 +260,17 @@ DepthSlices auto_slices(const std::vector<double>& logs, double zmin, double zma
 
 }  // namespace
 
-DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split) {
+DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius) {
     double zmin = kInf, zmax = 0.0;
     bool any_inf = false;
+    const bool is_auto = split.mode == LayerSplit::Mode::Auto;
+    const bool with_radius = is_auto && radius.size() == depths.size() && !depths.empty();
     std::vector<double> logs;
-    if (split.mode == LayerSplit::Mode::Auto) logs.reserve(depths.size());
-    for (float z : depths) {
+    std::vector<float> radii;
+    if (is_auto) logs.reserve(depths.size());
+    if (with_radius) radii.reserve(depths.size());
+    for (std::size_t i = 0; i < depths.size(); ++i) {
+        const float z = depths[i];
         if (z == float(kInf)) {
             any_inf = true;
             continue;
@@ -180,7 +278,8 @@ DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split
         if (!(z > 0.0f) || !std::isfinite(z)) continue;
         zmin = std::min(zmin, double(z));
         zmax = std::max(zmax, double(z));
-        if (split.mode == LayerSplit::Mode::Auto) logs.push_back(std::log(double(z)));
+        if (is_auto) logs.push_back(std::log(double(z)));
+        if (with_radius) radii.push_back(radius[i]);
     }
     if (zmin == kInf) {  // no positive finite depth: one slice (Count: all in the first)
         DepthSlices s;
@@ -191,7 +290,7 @@ DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split
         return s;
     }
     if (split.mode == LayerSplit::Mode::Count) return count_slices(zmin, zmax, any_inf, split.count);
-    return auto_slices(logs, zmin, zmax, any_inf, split.max_layers);
+    return auto_slices(logs, radii, zmin, zmax, any_inf, split);
 }
 
 void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out) {

@@ -124,7 +124,8 @@ struct Over {
 
 }  // namespace
 
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec) {
+Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec,
+                                            std::span<const float> sample_radius) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
@@ -132,6 +133,9 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
     const Roi win = deep.data_window();
     const std::size_t nsamples = deep.total_samples();
     const float* z = deep.samples(ch.z);
+    if (!sample_radius.empty() && sample_radius.size() != nsamples)
+        return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
+                             std::to_string(nsamples) + " samples");
 
     // Layer of every sample, and the layers' names / intervals.
     std::vector<std::int32_t> layer_of(nsamples, 0);
@@ -164,7 +168,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
         }
         for (std::size_t k = 0; k < nsamples; ++k) layer_of[k] = index[ids[k]];
     } else {
-        const DepthSlices slices = choose_slices(std::span<const float>(z, nsamples), split);
+        const DepthSlices slices = choose_slices(std::span<const float>(z, nsamples), split, sample_radius);
         nlayers = slices.count();
         slice_lo = slices.lo;
         slice_hi = slices.hi;

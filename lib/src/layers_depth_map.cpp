@@ -57,16 +57,22 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
     // Decoded depth (+inf where invalid) and presence.
     std::vector<float> depth(n);
     std::vector<unsigned char> present(n, 0);
-    std::vector<float> present_depths;
+    if (!options.radius.empty() && options.radius.size() != n)
+        return Status::error("depth-map layers: " + std::to_string(options.radius.size()) + " blur radii for " +
+                             std::to_string(n) + " pixels");
+    std::vector<float> present_depths, present_radii;
     present_depths.reserve(n);
     const float* zraw = img.plane(*zc);
     for (std::size_t i = 0; i < n; ++i) {
         const double d = decode_depth(zraw[i], src.depth_decode);
         depth[i] = std::isfinite(d) ? float(d) : float(kInf);
         present[i] = (!a || a[i] > 0.0f || r[i] != 0.0f || g[i] != 0.0f || b[i] != 0.0f) ? 1 : 0;
-        if (present[i]) present_depths.push_back(depth[i]);
+        if (present[i]) {
+            present_depths.push_back(depth[i]);
+            if (!options.radius.empty()) present_radii.push_back(options.radius[i]);
+        }
     }
-    const DepthSlices slices = choose_slices(present_depths, options.split);
+    const DepthSlices slices = choose_slices(present_depths, options.split, present_radii);
     const int ns = slices.count();
 
     // Slice of each present pixel (-1: none), boxes, ranges.

@@ -35,10 +35,15 @@ struct DepthSlices {
 //  - At most max_layers - 1 gaps are kept (the widest; ties: nearest first).
 constexpr double kAutoMinGap = 0.05;
 constexpr double kAutoNoiseFraction = 2e-5;
+// Auto blur cuts (LayerSplit::blur_step = 0): step = max(kAutoBlurStepPx,
+// largest bin-mean radius / kAutoBlurLayers), times 1.25 until the layers fit.
+constexpr double kAutoBlurStepPx = 2.0;
+constexpr double kAutoBlurLayers = 4.0;
 
 // Slices for Auto / Count from the sample depths (NaN must be filtered out
 // by the caller; +inf and <= 0 are allowed and ignored when choosing).
-DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split);
+// `radius`: empty, or one blur radius per depth (Auto's blur cuts).
+DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius = {});
 
 // "depth 2.1-3.4"
 std::string depth_range_name(double near, double far);

@@ -11,11 +11,15 @@
 // Post-process times exclude producing their inputs (pinhole / deep renders,
 // stacks), as a compositor receives them; they are the best of 2 runs.
 //
-//   bench_methods --out DIR --cache DIR [--full] [--scenes a,b] [--fields a,b]
+//   bench_methods --out DIR --cache DIR [--full] [--prepare] [--scenes a,b]
+//                 [--fields a,b] [--methods raytrace,diffusion,compositing,gaussian]
 //
-// --full adds 1920x1080 and 1024 spp. Scenes: "generated" (examples/render:
-// thin poles in front of a checker wall) and "cornell" (Cornell box + bunny
-// from ../shared/data/meshes, skipped when absent).
+// --full adds 1920x1080 (ground truth 256 spp, inputs at 256 spp, a 24
+// reference stack at 32 spp, fewer settings: see run_scene) and 1024 spp at
+// 640x360. --prepare renders the cache (inputs, stack, ground truths) and
+// stops. Scenes: "generated" (examples/render: thin poles in front of a
+// checker wall) and "cornell" (Cornell box + bunny from ../shared/data/meshes,
+// skipped when absent).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,8 +54,10 @@ namespace {
 
 struct Options {
     std::string out = "bench_out", cache = "bench_cache";
-    bool full = false;
+    bool full = false, prepare = false;
     std::vector<std::string> scenes{"generated", "cornell"}, fields{"thin_lens", "two_planes", "region"};
+    std::vector<std::string> methods{"raytrace", "diffusion", "compositing", "gaussian"};
+    bool runs(const std::string& m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -97,17 +103,23 @@ Scene load_scene_at(const std::string& path, int w, int h) {
     return take(parse_scene(j.dump(), fs::path(path).parent_path().string()), path);
 }
 
+// The f-number that blurs the nearest geometry (znear) by 10 px per 640 px of
+// width with the scene camera's focus: the benchmark's thin-lens field, and
+// the widest aperture of its stack (so compositing can reach that blur).
+double open_f_number(const Camera& cam, double scale, double znear) {
+    const ThinLens tl = take(cam.thin_lens(), "scene camera");
+    return tl.f_number * tl.coc_radius_px(znear) / (10 * scale);
+}
+
 // Blur fields per scene: the camera's thin lens (physical), two focal planes,
 // a sphere of focus. Max blurs scale with the image width.
-// The thin lens keeps the scene camera's focus but opens the aperture until
-// the nearest geometry (znear) is blurred by 10 px per 640 px of width.
+// The thin lens keeps the scene camera's focus with open_f_number's aperture.
 std::string field_json(const std::string& scene, const std::string& field, const Camera& cam, double scale,
                        double znear) {
     const LensInfo& l = cam.lens();
     char b[1024];
     if (field == "thin_lens") {
-        ThinLens tl = take(cam.thin_lens(), "scene camera");
-        const double n = tl.f_number * tl.coc_radius_px(znear) / (10 * scale);
+        const double n = open_f_number(cam, scale, znear);
         std::snprintf(b, sizeof b,
                       R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": %g, "f_number": %g, "focus_distance": %g, "sensor_width_mm": %g}})",
                       l.focal_length_mm, n, l.focus_distance, l.sensor_width_mm);
@@ -212,6 +224,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     const auto tracer = take(RayTracer::build(scene), "building " + path);
     const Camera& cam = scene.camera;
     const double scale = W / 640.0;
+    const bool big = W > 1000;  // 1920x1080: fewer, cheaper settings (see the header)
+    const int reps = big ? 1 : 2;  // best of `reps` runs for post-process timings
     const std::string cdir = opt.cache + "/" + name + "_" + std::to_string(W) + "x" + std::to_string(H);
     fs::create_directories(cdir);
 
@@ -219,9 +233,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     // Inputs as clean as the ground truth (a compositor's plates are not noisy).
     RenderSettings in;
     in.pinhole = true;
-    in.spp = 1024;
+    in.spp = big ? 256 : 1024;
     in.adaptive_threshold = 0.002;
-    in.min_spp = 64;
+    in.min_spp = big ? 16 : 64;
     const Image pinhole = cached_flat(cdir + "/pinhole_q.exr", [&] { return take(render(*tracer, in), "pinhole"); });
     DeepImage deep;
     {
@@ -237,29 +251,33 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     const std::vector<char> edges = bench::discontinuity_mask(pinhole.plane(zc), W, H, int(std::lround(4 * scale)));
 
     // The stack: 12 focus distances (evenly in 1/distance over the scene's
-    // depth range) x 4 f-numbers, rendered once; smaller stacks are subsets.
+    // depth range) x 4 f-numbers (the thin-lens field's open aperture N and
+    // 2N, 4N, 8N), rendered once; smaller stacks are subsets. 1920x1080: the
+    // first two f-numbers only (24 references).
     std::vector<float> zs;
     for (std::size_t i = 0; i < pinhole.npixels(); ++i)
         if (std::isfinite(pinhole.plane(zc)[i])) zs.push_back(pinhole.plane(zc)[i]);
     std::sort(zs.begin(), zs.end());
     const double znear = zs[zs.size() / 50], zfar = zs[zs.size() * 49 / 50];
-    const double n0 = cam.lens().f_number;
+    const double n0 = open_f_number(cam, scale, znear);
+    const int nf = big ? 2 : 4;
     RenderStackSpec spec;
     for (int i = 0; i < 12; ++i)
         for (double fn : {n0, 2 * n0, 4 * n0, 8 * n0}) {
+            if (fn > n0 * (1 << (nf - 1)) * 1.0001) continue;
             const double t = i / 11.0;
             spec.references.push_back({1.0 / ((1 - t) / znear + t / zfar), fn});
         }
     const FocalStack plan = take(plan_render_stack(cam, spec), "stack plan");
     std::vector<Image> refs;
-    {
+    if (opt.prepare || opt.runs("compositing")) {
         RenderSettings rs;
-        rs.spp = 128;
-        rs.min_spp = 16;
+        rs.spp = big ? 32 : 128;
+        rs.min_spp = big ? 8 : 16;
         rs.adaptive_threshold = 0.01;
         rs.aovs = 0;
         for (std::size_t i = 0; i < plan.references.size(); ++i) {
-            const std::string p = cdir + "/stack_q_" + std::to_string(i) + ".exr";
+            const std::string p = cdir + "/stack_f" + std::to_string(nf) + "_" + std::to_string(i) + ".exr";
             refs.push_back(cached_flat(p, [&] {
                 RenderSettings r = rs;
                 LensInfo l = cam.lens();
@@ -276,7 +294,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         const std::string fj = field_json(name, fname, cam, scale, znear);
         std::fprintf(stderr, "   %s\n", fj.c_str());
         const BlurField field = take(BlurField::parse(fj), fname);
-        const int gt_spp = W > 1000 ? 256 : 1024;
+        const int gt_spp = big ? 256 : 1024;
         const std::string key = std::to_string(std::hash<std::string>{}(fj) % 1000000007u);  // the cache follows the field
         const Roi frame = cam.display_window();
         const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
@@ -289,6 +307,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             rs.aovs = 0;
             return take(render(*tracer, rs), "ground truth");
         }), frame);
+        if (opt.prepare) continue;
         auto row = [&](const std::string& method, const std::string& setting, double secs, const Image& img,
                        std::uint64_t rays = 0) {
             Row r{name, fname, method, setting, W, H, secs, bench::compare(rgb_of(img, frame), truth, edges), rays};
@@ -299,8 +318,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         // Ray tracing.
         std::vector<int> fixed = {4, 16, 64, 256};
         if (opt.full) fixed.push_back(1024);
+        if (!opt.runs("raytrace")) fixed.clear();
         for (int spp : fixed) {
-            if (spp >= gt_spp) continue;
+            if (big ? spp >= gt_spp : spp > gt_spp) continue;  // 1024 at 640x360 (--full): the ground truth's own noise
             RenderSettings rs;
             rs.spp = spp;
             rs.adaptive_threshold = 0;
@@ -311,6 +331,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             row("raytrace fixed", "spp=" + std::to_string(spp), st.seconds, img, st.primary_rays);
         }
         for (int cap : {16, 64, 256}) {
+            if (!opt.runs("raytrace") || (big && cap > 64)) continue;
             RenderSettings rs;
             rs.spp = cap;
             rs.min_spp = 4;
@@ -327,30 +348,42 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         ImageSet deep_set, flat_set;
         deep_set.parts.emplace_back(deep);
         flat_set.parts.emplace_back(pinhole);
+        // Settings: ADI sub-steps K (0 = automatic) or the explicit solver's
+        // safety factor on its iteration count (1 = the stability limit).
         struct Diff {
             std::string input, layers;
             DiffusionSolver solver;
-            int adi_steps;
+            int adi_steps = 0;
+            double safety = 0;  // 0: the default
+            bool big = true;    // also run at 1920x1080
         };
-        const std::vector<Diff> diffs = {
-            {"deep", "auto", DiffusionSolver::Adi, 0},       {"deep", "auto", DiffusionSolver::Adi, 4},
-            {"deep", "auto", DiffusionSolver::Adi, 16},      {"deep", "4", DiffusionSolver::Adi, 0},
-            {"deep", "8", DiffusionSolver::Adi, 0},          {"deep", "16", DiffusionSolver::Adi, 0},
-            {"deep", "auto", DiffusionSolver::Explicit, 0},  {"deep", "8", DiffusionSolver::Explicit, 0},
-            {"flat+Z", "auto", DiffusionSolver::Adi, 0},     {"flat+Z", "8", DiffusionSolver::Adi, 0},
-            {"flat+Z", "16", DiffusionSolver::Adi, 0},       {"flat+Z", "8", DiffusionSolver::Explicit, 0},
+        const auto Adi = DiffusionSolver::Adi;
+        const auto Exp = DiffusionSolver::Explicit;
+        std::vector<Diff> diffs = {
+            {"deep", "auto", Adi},          {"deep", "auto:gaps", Adi},         {"deep", "auto", Adi, 4, 0, false}, {"deep", "auto", Adi, 16, 0, false},
+            {"deep", "4", Adi},             {"deep", "8", Adi},                 {"deep", "16", Adi, 0, 0, false},
+            {"deep", "auto", Exp},          {"deep", "8", Exp, 0, 1.0, false},  {"deep", "8", Exp},
+            {"deep", "8", Exp, 0, 2.0, false},
+            {"flat+Z", "auto", Adi},        {"flat+Z", "auto:blur", Adi}, {"flat+Z", "8", Adi},               {"flat+Z", "16", Adi, 0, 0, false},
+            {"flat+Z", "8", Exp, 0, 0, false},
         };
+        if (!opt.runs("diffusion")) diffs.clear();
         for (const Diff& d : diffs) {
+            if (big && !d.big) continue;
             DefocusSettings ds;
             ds.diffusion.solver = d.solver;
             ds.diffusion.adi_steps = d.adi_steps;
+            if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
             ds.split = take(parse_layer_split(d.layers), "layers");
             ImageSet result;
-            const double secs = best_time(2, [&] {
+            const double secs = best_time(reps, [&] {
                 result = take(defocus(d.input == "deep" ? deep_set : flat_set, field, cam, ds), "defocus");
             });
             const std::string method = std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
-            const std::string setting = "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "");
+            char safety[32] = "";
+            if (d.safety > 0) std::snprintf(safety, sizeof safety, " s=%g", d.safety);
+            const std::string setting =
+                "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "") + safety;
             row(method, setting, secs, result.flat(0));
             if (d.input == "deep" && d.layers == "auto" && d.solver == DiffusionSolver::Adi && d.adi_steps == 0)
                 best["diffusion adi (deep)"] = rgb_of(result.flat(0), frame);
@@ -361,14 +394,15 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         bfs.coc_px = plan.coc_px;
         const DesiredFocus desired = take(desired_from_blur_field(field, cam, pinhole, bfs), "desired focus");
         for (int n : {4, 8, 16, 24, 48}) {
+            if (!opt.runs("compositing") || n > 12 * nf) continue;
             // Subsets: n <= 12: n focus distances at the scene's f-number;
             // more: 12 distances x the first n / 12 f-numbers.
             std::vector<int> pick;
             if (n <= 12) {
-                for (int k = 0; k < n; ++k) pick.push_back(4 * int(std::lround(k * 11.0 / std::max(1, n - 1))));
+                for (int k = 0; k < n; ++k) pick.push_back(nf * int(std::lround(k * 11.0 / std::max(1, n - 1))));
             } else {
                 for (int i = 0; i < 12; ++i)
-                    for (int f = 0; f < n / 12; ++f) pick.push_back(4 * i + f);
+                    for (int f = 0; f < n / 12; ++f) pick.push_back(nf * i + f);
             }
             std::vector<DepthInterval> iv;
             std::vector<const Image*> imgs;
@@ -379,7 +413,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                 CompositeSettings cs;
                 cs.soft_k = soft;
                 Image out;
-                const double secs = best_time(2, [&] {
+                const double secs = best_time(reps, [&] {
                     MemoryStackPixels px(imgs);
                     StackSelection sel = take(select_references(index, desired, cs), "select");
                     out = take(composite_stack(sel, px, cs), "composite");
@@ -391,14 +425,15 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
 
         // The naive baseline: per-slice Gaussian blur.
         for (int slices : {4, 8, 16}) {
+            if (!opt.runs("gaussian")) break;
             Image out;
             const double secs =
-                best_time(2, [&] { out = take(bench::gaussian_layers(pinhole, field, cam, slices), "gaussian"); });
+                best_time(reps, [&] { out = take(bench::gaussian_layers(pinhole, field, cam, slices), "gaussian"); });
             row("gaussian layers (cv)", "slices=" + std::to_string(slices), secs, out);
             if (slices == 8) best["gaussian 8 slices"] = rgb_of(out, frame);
         }
 
-        if (W == 640) {
+        if (!big) {
             std::vector<Picture> pics;
             for (const char* k : {"raytrace adaptive 64", "diffusion adi (deep)", "compositing 48 hard", "gaussian 8 slices"})
                 if (best.count(k)) pics.push_back({k, best[k]});
@@ -420,9 +455,11 @@ int main(int argc, char** argv) {
         if (a == "--out") opt.out = next();
         else if (a == "--cache") opt.cache = next();
         else if (a == "--full") opt.full = true;
+        else if (a == "--prepare") opt.prepare = true;
+        else if (a == "--methods") opt.methods = split(next());
         else if (a == "--scenes") opt.scenes = split(next());
         else if (a == "--fields") opt.fields = split(next());
-        else die("unknown argument '" + a + "' (--out DIR --cache DIR [--full] [--scenes a,b] [--fields a,b])");
+        else die("unknown argument '" + a + "' (--out DIR --cache DIR [--full] [--prepare] [--scenes a,b] [--fields a,b] [--methods a,b])");
     }
     fs::create_directories(opt.out);
     fs::create_directories(opt.cache);

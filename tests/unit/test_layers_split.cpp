@@ -15,6 +15,17 @@ TEST(layers_split, AcceptedForms) {
     EXPECT_EQ(am->mode, LayerSplit::Mode::Auto);
     EXPECT_EQ(am->max_layers, 6);
 
+    EXPECT_EQ(am->blur_cuts, LayerSplit::BlurCuts::Default);
+
+    auto ab = parse_layer_split("auto:8:blur=2.5");
+    ASSERT_TRUE(ab) << ab.message();
+    EXPECT_EQ(ab->max_layers, 8);
+    EXPECT_EQ(ab->blur_cuts, LayerSplit::BlurCuts::On);
+    EXPECT_DOUBLE_EQ(ab->blur_step, 2.5);
+    EXPECT_EQ(parse_layer_split("auto:blur")->blur_cuts, LayerSplit::BlurCuts::On);
+    EXPECT_DOUBLE_EQ(parse_layer_split("auto:blur")->blur_step, 0.0);
+    EXPECT_EQ(parse_layer_split("auto:gaps")->blur_cuts, LayerSplit::BlurCuts::Off);
+
     auto n = parse_layer_split("5");
     ASSERT_TRUE(n) << n.message();
     EXPECT_EQ(n->mode, LayerSplit::Mode::Count);
@@ -32,7 +43,8 @@ TEST(layers_split, AcceptedForms) {
 }
 
 TEST(layers_split, ErrorsNameTheValue) {
-    for (const char* bad : {"0", "-2", "abc", "", "5x", "1.5", "id:", "auto:0", "auto:x", "100000"}) {
+    for (const char* bad : {"0", "-2", "abc", "", "5x", "1.5", "id:", "auto:0", "auto:x", "100000", "auto:", "auto::4",
+                            "auto:blur=0", "auto:blur=x", "auto:blur=", "auto:blur=nan", "auto:gap"}) {
         auto r = parse_layer_split(bad);
         ASSERT_FALSE(r) << "'" << bad << "' was accepted";
         EXPECT_NE(r.message().find(std::string("'") + bad + "'"), std::string::npos) << r.message();

@@ -4,6 +4,7 @@
 // and composited back with `over`.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,15 @@ struct LayerSplit {
         // run of bins holding at most 2e-5 of the samples (strays, mixed edge
         // depths), not touching either end, at least 0.05 wide in log depth
         // (a 5 % depth ratio); the widest max_layers - 1 gaps are kept, each
-        // split at its middle. Continuous depths give one layer.
+        // split at its middle. Then, when the caller gives each sample's
+        // blur radius (defocus does), every cluster is also cut where its
+        // blur changes: walking the histogram bins front to back, a new
+        // layer starts when the bins' mean radii since the last cut span
+        // more than blur_step px. So a continuous depth range (a ground
+        // plane) still gets layers where its blur varies, and occlusion
+        // inside it is kept; without radii, continuous depths give one layer.
+        // defocus cuts deep inputs by blur and depth maps only when asked
+        // (blur_cuts): see docs/diffusion.md for the measurements.
         Auto,
         // `count` layers of equal extent in 1/depth between the smallest and
         // largest positive finite depth (+inf counts as 1/depth = 0): even in
@@ -57,9 +66,20 @@ struct LayerSplit {
     Mode mode = Mode::Auto;
     int count = 8;
     int max_layers = 32;
+    // Auto: whether defocus cuts by blur. Default: deep inputs yes, flat
+    // depth maps no (their one depth per pixel mixes depths at edges, and
+    // thin cut slices of continuous surfaces there cost more than they gain).
+    enum class BlurCuts { Default, On, Off };
+    BlurCuts blur_cuts = BlurCuts::Default;
+    // Auto: the most a layer's (per-bin mean) blur radius may vary, px.
+    // 0 = automatic: max(2 px, largest radius / 4); raised until the layers
+    // fit in max_layers.
+    double blur_step = 0.0;
     std::string id_channel = "id";
 };
-// Parses "auto", "auto:MAX" (max_layers), "N" (count, 1..1024), "id" /
+// Parses "auto" with optional ':'-separated options (MAX = max_layers,
+// "blur" = cut by blur, "blur=STEP" = cut by blur with that step in px,
+// "gaps" = no blur cuts; e.g. "auto:8:blur=3"), "N" (count, 1..1024), "id" /
 // "id:CHANNEL"; errors name the value.
 Result<LayerSplit> parse_layer_split(const std::string& text);
 
@@ -75,7 +95,10 @@ Result<LayerSplit> parse_layer_split(const std::string& text);
 // nearest. For depth splits, compositing all layers with composite_layers
 // equals flatten_deep up to float rounding (the layers partition the sorted
 // samples); for ById only when ids do not interleave in depth.
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec = {});
+// `sample_radius` (optional: empty, or one blur radius per deep sample in
+// sample order) drives Auto's blur cuts.
+Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec = {},
+                                            std::span<const float> sample_radius = {});
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -111,6 +134,9 @@ struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding
     double extend_px = 0.0;  // typically the largest blur radius of the image
+    // Optional: the blur radius of every pixel (row-major over the image's
+    // data window), for Auto's blur cuts; empty: gaps only. Not owned.
+    std::span<const float> radius;
 };
 Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                  const Exec& exec = {});
