@@ -13,6 +13,7 @@
 //
 //   bench_methods --out DIR --cache DIR [--full] [--prepare] [--scenes a,b]
 //                 [--fields a,b] [--methods raytrace,diffusion,compositing,gaussian]
+//                 [--sizes 640x360,1920x1080]
 //
 // --full adds 1920x1080 (ground truth 256 spp, inputs at 256 spp, a 24
 // reference stack at 32 spp, fewer settings: see run_scene) and 1024 spp at
@@ -57,6 +58,7 @@ struct Options {
     bool full = false, prepare = false;
     std::vector<std::string> scenes{"generated", "cornell"}, fields{"thin_lens", "two_planes", "region"};
     std::vector<std::string> methods{"raytrace", "diffusion", "compositing", "gaussian"};
+    std::vector<std::string> sizes;  // "WxH" (640x360, 1920x1080); empty: by --full
     bool runs(const std::string& m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
 };
 
@@ -457,9 +459,10 @@ int main(int argc, char** argv) {
         else if (a == "--full") opt.full = true;
         else if (a == "--prepare") opt.prepare = true;
         else if (a == "--methods") opt.methods = split(next());
+        else if (a == "--sizes") opt.sizes = split(next());
         else if (a == "--scenes") opt.scenes = split(next());
         else if (a == "--fields") opt.fields = split(next());
-        else die("unknown argument '" + a + "' (--out DIR --cache DIR [--full] [--prepare] [--scenes a,b] [--fields a,b] [--methods a,b])");
+        else die("unknown argument '" + a + "' (--out DIR --cache DIR [--full] [--prepare] [--scenes a,b] [--fields a,b] [--methods a,b] [--sizes WxH,...])");
     }
     fs::create_directories(opt.out);
     fs::create_directories(opt.cache);
@@ -467,6 +470,15 @@ int main(int argc, char** argv) {
     const std::string examples = GDOF_SOURCE_DIR "/examples/render/";
     std::vector<std::pair<int, int>> sizes = {{640, 360}};
     if (opt.full) sizes.push_back({1920, 1080});
+    if (!opt.sizes.empty()) {
+        sizes.clear();
+        for (const std::string& t : opt.sizes) {
+            int w = 0, h = 0;
+            if (std::sscanf(t.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+                die("--sizes: '" + t + "' is not WxH (16..8192)");
+            sizes.push_back({w, h});
+        }
+    }
     for (const std::string& s : opt.scenes) {
         const std::string path = examples + s + ".json";
         if (s == "cornell" && !fs::exists(GDOF_SOURCE_DIR "/../shared/data/meshes/CornellBox-Original.obj")) {
