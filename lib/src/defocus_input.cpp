@@ -141,8 +141,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
         std::vector<float> r(d.total_samples());
         if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
             return st.prefix("defocus: blur field");
-        const bool cut = settings.split.blur_cuts != LayerSplit::BlurCuts::Off;
-        layers = layers_from_deep(d, settings.split, exec, cut ? std::span<const float>(r) : std::span<const float>());
+        layers = layers_from_deep(d, settings.split, exec, r);  // blur_cuts Off ignores the radii
         if (layers) {
             // Deep renders keep only visible samples: extend each layer behind
             // the nearer layers that fully hide it, as far as the largest blur

@@ -265,10 +265,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     const int nf = big ? 2 : 4;
     RenderStackSpec spec;
     for (int i = 0; i < 12; ++i)
-        for (double fn : {n0, 2 * n0, 4 * n0, 8 * n0}) {
-            if (fn > n0 * (1 << (nf - 1)) * 1.0001) continue;
+        for (int k = 0; k < nf; ++k) {
             const double t = i / 11.0;
-            spec.references.push_back({1.0 / ((1 - t) / znear + t / zfar), fn});
+            spec.references.push_back({1.0 / ((1 - t) / znear + t / zfar), n0 * (1 << k)});
         }
     const FocalStack plan = take(plan_render_stack(cam, spec), "stack plan");
     std::vector<Image> refs;
@@ -299,14 +298,20 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         const int gt_spp = big ? 256 : 1024;
         const std::string key = std::to_string(std::hash<std::string>{}(fj) % 1000000007u);  // the cache follows the field
         const Roi frame = cam.display_window();
-        const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
-            std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
+        // The field traced at `spp` (threshold 0: fixed), colour only.
+        auto traced = [&](int spp, double threshold, int min_spp) {
             RenderSettings rs;
-            rs.spp = gt_spp;
-            rs.adaptive_threshold = 0;
-            rs.seed = 0x5eed;
+            rs.spp = spp;
+            rs.adaptive_threshold = threshold;
+            rs.min_spp = min_spp;
             rs.blur_field = &field;
             rs.aovs = 0;
+            return rs;
+        };
+        const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
+            std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
+            RenderSettings rs = traced(gt_spp, 0, RenderSettings{}.min_spp);
+            rs.seed = 0x5eed;
             return take(render(*tracer, rs), "ground truth");
         }), frame);
         if (opt.prepare) continue;
@@ -323,25 +328,14 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         if (!opt.runs("raytrace")) fixed.clear();
         for (int spp : fixed) {
             if (big ? spp >= gt_spp : spp > gt_spp) continue;  // 1024 at 640x360 (--full): the ground truth's own noise
-            RenderSettings rs;
-            rs.spp = spp;
-            rs.adaptive_threshold = 0;
-            rs.blur_field = &field;
-            rs.aovs = 0;
             RenderStats st;
-            Image img = take(render(*tracer, rs, &st), "raytrace");
+            Image img = take(render(*tracer, traced(spp, 0, RenderSettings{}.min_spp), &st), "raytrace");
             row("raytrace fixed", "spp=" + std::to_string(spp), st.seconds, img, st.primary_rays);
         }
         for (int cap : {16, 64, 256}) {
             if (!opt.runs("raytrace") || (big && cap > 64)) continue;
-            RenderSettings rs;
-            rs.spp = cap;
-            rs.min_spp = 4;
-            rs.adaptive_threshold = 0.02;
-            rs.blur_field = &field;
-            rs.aovs = 0;
             RenderStats st;
-            Image img = take(render(*tracer, rs, &st), "raytrace adaptive");
+            Image img = take(render(*tracer, traced(cap, 0.02, 4), &st), "raytrace adaptive");
             row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
             if (cap == 64) best["raytrace adaptive 64"] = rgb_of(img, frame);
         }
