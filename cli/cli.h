@@ -228,7 +228,7 @@ struct Frame {
     std::shared_ptr<BlurState> blur;
 
     // --diffuse modifiers (names as the library's settings).
-    DiffusionSolver solver = DiffusionSolver::Adi;  // --solver
+    DiffusionSolver solver = DiffusionSolver::Auto;  // --solver
     LayerSplit layer_split;                         // --layers
     int adi_steps = 0;                              // --adi-steps (0: automatic)
 

@@ -30,6 +30,9 @@ DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double la
                                         const std::vector<float>& radius_map) {
     DiffusionSettings s = base;
     const double r_layer = std::sqrt(8.0 * double(float(diffusivity_from_radius(layer_max_radius))));
+    // Auto is decided by the whole layer's largest radius, so every tile of a
+    // layer runs the same solver.
+    s.solver = choose_solver(r_layer, base);
     if (s.solver == DiffusionSolver::Adi) {
         s.adi_steps = adi_steps_for(r_layer, base);
         return s;
@@ -107,6 +110,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
 
     t0 = std::chrono::steady_clock::now();
     const DiffusionSettings s = layer_solver_settings(settings, analysis.max_radius, radius);
+    ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
     std::array<float*, 4> planes{out.rgba[0].data(), out.rgba[1].data(), out.rgba[2].data(), out.rgba[3].data()};
     Status st = diffuse_planes(planes, W, H, radius.data(), s, exec);
     stats.t_diffuse += seconds_since(t0);

@@ -11,6 +11,7 @@ std::string DefocusStats::report() const {
     o << "defocus:\n";
     o << "  layers            " << layers << " (" << layers_empty << " empty, " << layers_sharp << " sharp, "
       << (layers - layers_empty - layers_sharp) << " diffused)\n";
+    o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi\n";
     o << std::fixed << std::setprecision(2);
     o << "  max blur radius   " << max_radius_px << " px\n";
     o << "  pixels diffused   " << pixels_diffused << "\n";

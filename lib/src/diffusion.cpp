@@ -1,5 +1,6 @@
 #include "gdof/diffusion.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -7,13 +8,28 @@
 
 namespace gdof {
 
-const char* to_string(DiffusionSolver s) { return s == DiffusionSolver::Explicit ? "explicit" : "adi"; }
+const char* to_string(DiffusionSolver s) {
+    switch (s) {
+        case DiffusionSolver::Explicit: return "explicit";
+        case DiffusionSolver::Adi: return "adi";
+        case DiffusionSolver::Auto: break;
+    }
+    return "auto";
+}
 
 Result<DiffusionSolver> parse_diffusion_solver(const char* name) {
     std::string n = name ? name : "";
+    if (n == "auto") return DiffusionSolver::Auto;
     if (n == "explicit") return DiffusionSolver::Explicit;
     if (n == "adi") return DiffusionSolver::Adi;
-    return Status::error("unknown diffusion solver '" + n + "' (expected 'adi' or 'explicit')");
+    return Status::error("unknown diffusion solver '" + n + "' (expected 'auto', 'adi' or 'explicit')");
+}
+
+DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& settings) {
+    if (settings.solver != DiffusionSolver::Auto) return settings.solver;
+    const double explicit_cost = explicit_iterations(max_radius_px, settings);
+    const double adi_cost = kAdiStepCost * adi_steps_for(max_radius_px, settings);
+    return explicit_cost <= adi_cost ? DiffusionSolver::Explicit : DiffusionSolver::Adi;
 }
 
 int explicit_iterations(double max_radius_px, const DiffusionSettings& settings) {
@@ -33,6 +49,7 @@ Status diffuse_planes(std::span<float* const> planes, int width, int height, con
         return Status::error("diffusion: explicit_safety must be in 1..100");
     std::vector<float> d(n);
     bool any = false;
+    float dmax = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
         float r = radius[i];
         if (!std::isfinite(r) || r < 0.0f || r > settings.max_radius) {
@@ -42,10 +59,11 @@ Status diffuse_planes(std::span<float* const> planes, int width, int height, con
                                  std::to_string(settings.max_radius));
         }
         d[i] = float(diffusivity_from_radius(r));
+        dmax = std::max(dmax, d[i]);
         any = any || r > 0.0f;
     }
     if (!any) return Status::ok();  // identity, bit for bit
-    return settings.solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
+    return choose_solver(std::sqrt(8.0 * double(dmax)), settings) == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
                                                         : diffuse_adi(planes, width, height, d.data(), settings, exec);
 }
 

@@ -252,6 +252,17 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
                             smp.z = cam.project(sh.p).depth;
                             smp.id = sh.object_id;
                         }
+                        // The beauty is float: a sample beyond its range would write +inf.
+                        const double peak = std::max({smp.radiance.x, smp.radiance.y, smp.radiance.z});
+                        if (!(peak <= double(std::numeric_limits<float>::max()))) {
+                            std::lock_guard<std::mutex> lock(error_mu);
+                            if (!failed.exchange(true))
+                                error = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + "): radiance " +
+                                        std::to_string(peak) +
+                                        " is beyond the float range of the beauty (a light's intensity or a "
+                                        "material's emission is too large)";
+                            return;
+                        }
                         lum.add(rt::luminance(smp.radiance));
                         samples.push_back(smp);
                     }

@@ -1,4 +1,5 @@
 // OBJ + MTL reading through tinyobjloader (Debian's libtinyobjloader-dev).
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -95,9 +96,10 @@ Result<ObjModel> load_obj(const std::string& path) {
         mat.ke = {m.emission[0], m.emission[1], m.emission[2]};
         // "Kd 1e400" parses as inf and would make every pixel it lights inf.
         for (const auto& [key, c] : {std::pair{"Kd", mat.kd}, std::pair{"Ke", mat.ke}})
-            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
+                std::max({c.x, c.y, c.z}) > kMaxSceneColour)
                 return Status::error(where + ": material '" + m.name + "' (its MTL file): " + key +
-                                     " has a non-finite value");
+                                     " must be finite and <= 1e20");
         model.materials.push_back(mat);
     }
 

@@ -1,5 +1,6 @@
 // Scene JSON -> gdof::Scene (format: docs/scene.md). Meshes are read and
 // flattened to world space here.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -45,10 +46,12 @@ Vec3 vec3(const json& j, const std::string& key) {
     return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
 }
 
-// A colour: [r, g, b] or one number for grey; every value >= 0.
+// A colour: [r, g, b] or one number for grey; every value in 0..kMaxSceneColour.
 Vec3 colour(const json& j, const std::string& key) {
     Vec3 c = j.is_number() ? Vec3{number(j, key), number(j, key), number(j, key)} : vec3(j, key);
     if (c.x < 0 || c.y < 0 || c.z < 0) fail(key, "must be >= 0");
+    if (std::max({c.x, c.y, c.z}) > kMaxSceneColour)
+        fail(key, "must be <= 1e20 (the float beauty would overflow), got " + j.dump());
     return c;
 }
 

@@ -13,7 +13,8 @@ const std::vector<std::string> kModes = {"focus", "blur"};
 const std::vector<std::string> kChannels = {"R", "G", "B", "A"};
 const std::vector<std::string> kPasses = {"depth", "position"};
 const std::vector<std::string> kEncodings = {"metric", "inverse", "scaled", "near_far_linear", "near_far_inverse"};
-const std::vector<std::string> kSolvers = {"adi", "explicit"};
+// Choice params are saved by index: new options go last.
+const std::vector<std::string> kSolvers = {"adi", "explicit", "auto"};
 const std::vector<std::string> kAnalyses = {"frame", "region"};
 
 std::string option(const ParamReader& r, const char* name, const std::vector<std::string>& options) {
@@ -87,9 +88,13 @@ void describe_defocus_params(ParamDefiner& d) {
 
     d.group("grp_diffusion", "Diffusion");
     d.set_group("grp_diffusion");
-    d.choice("solver", "Solver", kSolvers, 0, "adi: fast, cost independent of the blur; explicit: the paper's reference");
+    d.choice("solver", "Solver", kSolvers, 2,
+             "auto: per layer, the faster of the two for its blur; adi: cost independent of the blur; explicit: the paper's reference");
     d.integer("adi_steps", "ADI Steps", 0, 0, 1000, "ADI sub-steps (quality); 0: automatic");
     d.integer("layers", "Layers", 0, 0, 1024, "Depth layers: 0 = automatic (split at depth gaps), N = N slices even in 1/depth");
+    d.boolean("cut_by_blur", "Cut Layers by Blur", false,
+              "Automatic layers only: also cut where the blur changes inside a continuous depth range (a ground "
+              "plane), so a blurred object in front of its sharp part spreads over it (--layers auto:blur)");
     d.choice("analysis", "Layer Analysis", kAnalyses, 0,
              "frame: layers and blur are analysed on the whole source frame, so tiles match the full render; "
              "region: only the render region plus the blur margin is read (faster on large plates, tiles may differ "
@@ -133,6 +138,7 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.solver = option(r, "solver", kSolvers);
     p.adi_steps = r.integer("adi_steps");
     p.layers = r.integer("layers");
+    p.cut_by_blur = r.boolean("cut_by_blur");
     p.analysis = option(r, "analysis", kAnalyses);
     return p;
 }
@@ -197,7 +203,7 @@ Result<DefocusSettings> defocus_settings(const DefocusParams& p) {
     if (!solver) return solver.status().prefix("parameter 'solver'");
     s.diffusion.solver = *solver;
     s.diffusion.adi_steps = p.adi_steps;
-    auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string("auto"));
+    auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto:blur" : "auto"));
     if (!split) return split.status().prefix("parameter 'layers'");
     s.split = *split;
     s.source.depth_channel = "Z";

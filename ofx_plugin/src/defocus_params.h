@@ -43,6 +43,7 @@ struct DefocusParams {
     std::string solver = "adi";
     int adi_steps = 0;
     int layers = 0;                 // 0: auto
+    bool cut_by_blur = false;       // auto layers also cut by blur (auto:blur)
     std::string analysis = "frame"; // frame | region
 };
 

@@ -355,7 +355,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         };
         const auto Adi = DiffusionSolver::Adi;
         const auto Exp = DiffusionSolver::Explicit;
+        const auto Auto = DiffusionSolver::Auto;  // the default: per layer, the cheaper of the two
         std::vector<Diff> diffs = {
+            {"deep", "auto", Auto},         {"deep", "8", Auto},                {"flat+Z", "auto", Auto},
             {"deep", "auto", Adi},          {"deep", "auto:gaps", Adi},         {"deep", "auto", Adi, 4, 0, false}, {"deep", "auto", Adi, 16, 0, false},
             {"deep", "4", Adi},             {"deep", "8", Adi},                 {"deep", "16", Adi, 0, 0, false},
             {"deep", "auto", Exp},          {"deep", "8", Exp, 0, 1.0, false},  {"deep", "8", Exp},
@@ -381,8 +383,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             const std::string setting =
                 "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "") + safety;
             row(method, setting, secs, result.flat(0));
-            if (d.input == "deep" && d.layers == "auto" && d.solver == DiffusionSolver::Adi && d.adi_steps == 0)
-                best["diffusion adi (deep)"] = rgb_of(result.flat(0), frame);
+            if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
+                best["diffusion auto (deep)"] = rgb_of(result.flat(0), frame);
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
@@ -431,7 +433,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
 
         if (!big) {
             std::vector<Picture> pics;
-            for (const char* k : {"raytrace adaptive 64", "diffusion adi (deep)", "compositing 48 hard", "gaussian 8 slices"})
+            for (const char* k : {"raytrace adaptive 64", "diffusion auto (deep)", "compositing 48 hard", "gaussian 8 slices"})
                 if (best.count(k)) pics.push_back({k, best[k]});
             write_grid(opt.out + "/errors_" + name + "_" + fname + ".png", truth, pics, 0.1);
         }

@@ -32,6 +32,9 @@ for r in rows:
 keys = sorted(panels, key=lambda k: (k[0], int(k[1].split("x")[0]), k[2]))
 cols = min(3, len(keys))
 nrows = (len(keys) + cols - 1) // cols
+# One colour per method across panels (more methods than the default cycle's 10).
+all_methods = sorted({r["method"] for r in rows})
+colour = {m: plt.cm.tab20(i % 20) for i, m in enumerate(all_methods)}
 fig, axes = plt.subplots(nrows, cols, figsize=(5.2 * cols, 4.2 * nrows), squeeze=False)
 for ax, key in zip(axes.flat, keys):
     by_method = defaultdict(list)
@@ -39,7 +42,8 @@ for ax, key in zip(axes.flat, keys):
         by_method[r["method"]].append(r)
     for method, rs in sorted(by_method.items()):
         rs.sort(key=lambda r: r["seconds"])
-        ax.plot([r["seconds"] for r in rs], [r["rel_l1"] for r in rs], marker="o", markersize=3, label=method)
+        ax.plot([r["seconds"] for r in rs], [r["rel_l1"] for r in rs], marker="o", markersize=3, label=method,
+                color=colour[method])
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("seconds (log)")
@@ -74,13 +78,13 @@ for key in keys:
 # The question: diffusion on the deep render vs the naive Gaussian
 # baseline near depth discontinuities, at comparable time.
 lines += ["**Near depth discontinuities (thin lens): diffusion on the deep render vs the Gaussian baseline**", "",
-          "| scene | diffusion adi (deep), default layers=auto: edge rel L1 | s | diffusion (deep), best setting | s "
+          "| scene | diffusion (deep), defaults (solver auto, layers=auto): edge rel L1 | s | diffusion (deep), best setting | s "
           "| gaussian layers, best | s | gaussian / best diffusion | fastest deep diffusion beating the best gaussian | s "
           "| its time / gaussian's |", "|---|---|---|---|---|---|---|---|---|---|---|"]
 for key in keys:
     if key[2] != "thin_lens":
         continue
-    d = [r for r in panels[key] if r["method"] == "diffusion adi (deep)" and r["setting"] == "layers=auto"]
+    d = [r for r in panels[key] if r["method"] == "diffusion auto (deep)" and r["setting"] == "layers=auto"]
     dd = [r for r in panels[key] if r["method"].startswith("diffusion") and "(deep)" in r["method"]]
     g = [r for r in panels[key] if r["method"].startswith("gaussian")]
     if d and dd and g:

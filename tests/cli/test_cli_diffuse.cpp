@@ -156,11 +156,17 @@ TEST(cli_diffuse, DeepInputAndAThinLensFromTheFileWithoutBlurfield) {
 TEST(cli_diffuse, SolverLayersAdiStepsAndStats) {
     Scene sc;
     const std::string a = sc.dir.file("adi.exr"), e = sc.dir.file("explicit.exr");
-    auto r = run_gdof("--stats " + sc.diffuse(sc.flat, a, "--layers 3 --adi-steps 32"));
+    // The default solver is auto: at 6 px every layer runs explicit (cheaper below ~17 px).
+    auto r = run_gdof("--stats " + sc.diffuse(sc.flat, sc.dir.file("auto.exr"), "--layers 3"));
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    // The defocus report: layers (empty / sharp), pixels, time per stage.
+    EXPECT_TRUE(contains(r.output, "(solver auto)")) << r.output;
+    EXPECT_TRUE(contains(r.output, "solver            3 explicit, 0 adi")) << r.output;
+    r = run_gdof("--stats " + sc.diffuse(sc.flat, a, "--layers 3 --solver adi --adi-steps 32"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The defocus report: layers (empty / sharp), solvers, pixels, time per stage.
     EXPECT_TRUE(contains(r.output, "--diffuse")) << r.output;
     EXPECT_TRUE(contains(r.output, "solver adi")) << r.output;
+    EXPECT_TRUE(contains(r.output, "solver            0 explicit, 3 adi")) << r.output;
     EXPECT_TRUE(contains(r.output, "layers            3 (")) << r.output;
     EXPECT_TRUE(contains(r.output, "empty")) << r.output;
     EXPECT_TRUE(contains(r.output, "sharp")) << r.output;

@@ -84,6 +84,25 @@ TEST(ofx_defocus, FocalPlanesEqualCliDiffuseTo1e5) {
     EXPECT_EQ(f.s.fx->destroy(), kOfxStatOK);
 }
 
+// "Cut Layers by Blur" is the CLI's --layers auto:blur: equal to it, and not
+// the gaps-only split (the plate's ground is a continuous depth range whose
+// blur changes, so the cuts add layers).
+TEST(ofx_defocus, CutByBlurEqualsCliAutoBlur) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    set_planes(*f.s.fx);
+    const Rendered gaps = f.s.fx->render(0, kFull);
+    ASSERT_EQ(gaps.status, kOfxStatOK) << f.s.fx->persistent_message();
+    f.s.fx->set_bool("cut_by_blur", true);
+    const Rendered r = f.s.fx->render(0, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const double d = max_diff_to_file(r, f.cli(kPlanesJson, "--layers auto:blur"), 4, H);
+    const double from_gaps = max_diff(r, gaps);
+    std::printf("OFX cut_by_blur vs CLI auto:blur: max |diff| = %.3g; vs gaps only: %.3g\n", d, from_gaps);
+    EXPECT_LE(d, 1e-5);
+    EXPECT_GT(from_gaps, 1e-3);
+}
+
 TEST(ofx_defocus, ThinLensEqualsCliWithTheSameLens) {
     Fixture f;
     ASSERT_TRUE(f.s.ok());

@@ -128,6 +128,7 @@ TEST(ofx_describe, DefocusParametersMirrorTheBlurFieldWithJsonAndCliNames) {
         {"depth_near", kOfxParamTypeDouble},    {"depth_far", kOfxParamTypeDouble},
         {"solver", kOfxParamTypeChoice},        {"adi_steps", kOfxParamTypeInteger},
         {"layers", kOfxParamTypeInteger},       {"analysis", kOfxParamTypeChoice},
+        {"cut_by_blur", kOfxParamTypeBoolean},
     };
     for (const Expect& x : expected) {
         const PropertySet* p = param(e, x.name);
@@ -138,7 +139,7 @@ TEST(ofx_describe, DefocusParametersMirrorTheBlurFieldWithJsonAndCliNames) {
     }
     EXPECT_EQ(param(e, "kind")->strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"thin_lens", "focal_planes", "region", "image_map"}));
-    EXPECT_EQ(param(e, "solver")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"adi", "explicit"}));
+    EXPECT_EQ(param(e, "solver")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"adi", "explicit", "auto"}));
     EXPECT_EQ(param(e, "depth_encoding")->strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"metric", "inverse", "scaled", "near_far_linear", "near_far_inverse"}));
     EXPECT_EQ(param(e, "analysis")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"frame", "region"}));

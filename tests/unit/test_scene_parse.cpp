@@ -92,6 +92,8 @@ TEST(scene_parse, errors_name_the_key) {
         {"{" + cam + R"(, "meshes": [{"file": "quad.obj"}], "environment": [1, -1, 0]})", "environment: must be >= 0"},
         {"{" + cam + R"(, "meshes": []})", "meshes: missing"},
         {R"({"meshes": [{"file": "quad.obj"}]})", "camera: missing"},
+        {"{" + cam + R"(, "meshes": [{"file": "quad.obj"}], "lights": [{"type": "point", "position": [0,0,1], "intensity": 1e300}]})",
+         "lights[0].intensity: must be <= 1e20"},
         {"{" + cam + R"(, "meshes": [{"file": "quad.obj"}], "extra": 1})", "extra: unknown key"},
     };
     for (const auto& [json, expect] : list) {

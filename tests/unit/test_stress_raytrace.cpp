@@ -418,3 +418,41 @@ TEST(stress_raytrace, non_finite_material_colours_are_refused_or_harmless) {
             EXPECT_EQ(check_render(img), "") << "material " << key << " " << v << " accepted and rendered";
         }
 }
+
+// Light intensities and colours: beyond 1e20 the scene is refused naming the
+// key; within it, a product that leaves the float range (a 1e20 albedo lit by
+// a 1e20 light 1e-3 away: ~1e46) is a render error naming the pixel, never an
+// inf beauty; a 1e20 light at a normal distance renders finite.
+TEST(stress_raytrace, huge_lights_are_refused_or_errors_naming_the_pixel) {
+    ScratchDir dir;
+    write_file(dir.file("m.obj"), "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+    auto scene_with = [&](const std::string& kd, const std::string& light_z, const std::string& intensity,
+                          const std::string& env) {
+        return parse_scene(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "resolution": [8, 6]},
+            "meshes": [{"file": "m.obj", "scale": [10, 10, 1], "material": {"kd": )" + kd + R"(}}],
+            "lights": [{"type": "point", "position": [0, 0, )" + light_z + R"(], "intensity": )" + intensity + R"(}],
+            "environment": )" + env + "}",
+                           dir.path().string());
+    };
+    for (const auto& [intensity, env, key] :
+         {std::tuple{"1e300", "0.1", "lights[0].intensity"}, std::tuple{"[1, 1e21, 1]", "0.1", "lights[0].intensity"},
+          std::tuple{"5", "1e300", "environment"}}) {
+        auto s = scene_with("0.5", "2", intensity, env);
+        ASSERT_FALSE(s) << intensity << " / " << env;
+        EXPECT_TRUE(contains(s.message(), key) && contains(s.message(), "1e20")) << s.message();
+    }
+    RenderSettings rs;
+    rs.spp = 2;
+    {
+        auto s = scene_with("1e20", "1e-3", "1e20", "0");
+        ASSERT_TRUE(s) << s.message();
+        auto img = render(s.value(), rs);
+        if (!img && contains(img.message(), "without Embree")) GTEST_SKIP() << img.message();
+        ASSERT_FALSE(img) << "rendered a beauty beyond float range";
+        EXPECT_TRUE(contains(img.message(), "pixel (") && contains(img.message(), "float range")) << img.message();
+    }
+    auto s = scene_with("0.5", "2", "1e20", "1e20");
+    ASSERT_TRUE(s) << s.message();
+    RENDER_OR_SKIP(img, s.value(), rs);
+    EXPECT_EQ(check_render(img), "");
+}

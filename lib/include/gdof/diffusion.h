@@ -23,12 +23,13 @@ namespace gdof {
 enum class DiffusionSolver {
     Explicit,  // the paper's repeated 3x3 averaging: reference, cost grows with R^2
     Adi,       // implicit alternating-direction sweeps (Thomas): cost independent of R
+    Auto,      // the cheaper of the two for the largest radius (choose_solver)
 };
 const char* to_string(DiffusionSolver s);
-Result<DiffusionSolver> parse_diffusion_solver(const char* name);  // "explicit" | "adi"
+Result<DiffusionSolver> parse_diffusion_solver(const char* name);  // "auto" | "explicit" | "adi"
 
 struct DiffusionSettings {
-    DiffusionSolver solver = DiffusionSolver::Adi;
+    DiffusionSolver solver = DiffusionSolver::Auto;
     // ADI: implicit sub-steps, each an x sweep then a y sweep. One step already
     // has the exact variance; more steps bring the kernel's shape closer to a
     // Gaussian (excess kurtosis of the 1D kernel is about 3 / steps for large
@@ -47,12 +48,21 @@ inline double diffusivity_from_radius(double radius_px) { return radius_px * rad
 int explicit_iterations(double max_radius_px, const DiffusionSettings& settings);
 // Number of ADI sub-steps used for a largest radius.
 int adi_steps_for(double max_radius_px, const DiffusionSettings& settings);
+// The run time of one ADI sub-step (an x and a y sweep) in explicit
+// iterations, measured by tests/bench/bench_solvers (2.5 on a 2-core Xeon at
+// 640x360: both scale with the pixel count, so the ratio holds at any size).
+inline constexpr double kAdiStepCost = 2.5;
+// The solver that runs for a largest radius: settings.solver unless it is
+// Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
+// (with the default settings: R <= 17 px), else ADI. Both give the same
+// Gaussian within 1% relative L2, so the choice only changes the run time.
+DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& settings);
 
 // Diffuses `planes` (each width*height floats, row-major, stride = width) in
 // place, with the per-pixel blur radius map `radius` (same layout). NaN or
 // negative radii are errors naming the first bad pixel; Inf is an error too.
 // Pixels with radius 0 everywhere leave the planes bit-identical. Results do
-// not depend on exec.nthreads.
+// not depend on exec.nthreads. Auto is resolved by the map's largest radius.
 Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
                       const DiffusionSettings& settings, const Exec& exec = {});
 

@@ -17,6 +17,12 @@
 
 namespace gdof {
 
+// The largest colour value a scene accepts (JSON colours and intensities, MTL
+// Kd / Ke). The beauty is float: a light of 1e20 seen from 1e-4 scene units
+// (inverse square: 1e28) still sums within float range (3.4e38); a light of
+// 1e300 rendered +inf.
+inline constexpr double kMaxSceneColour = 1e20;
+
 // A diffuse material, optionally emissive (an area light).
 struct Material {
     std::string name;
