@@ -358,11 +358,11 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         const auto Auto = DiffusionSolver::Auto;  // the default: per layer, the cheaper of the two
         std::vector<Diff> diffs = {
             {"deep", "auto", Auto},         {"deep", "8", Auto},                {"flat+Z", "auto", Auto},
-            {"deep", "auto", Adi},          {"deep", "auto:gaps", Adi},         {"deep", "auto", Adi, 4, 0, false}, {"deep", "auto", Adi, 16, 0, false},
+            {"deep", "auto", Adi},          {"deep", "auto:gaps", Adi, 0, 0, false}, {"deep", "auto", Adi, 4, 0, false}, {"deep", "auto", Adi, 16, 0, false},
             {"deep", "4", Adi},             {"deep", "8", Adi},                 {"deep", "16", Adi, 0, 0, false},
-            {"deep", "auto", Exp},          {"deep", "8", Exp, 0, 1.0, false},  {"deep", "8", Exp},
+            {"deep", "auto", Exp, 0, 0, false}, {"deep", "8", Exp, 0, 1.0, false},  {"deep", "8", Exp},
             {"deep", "8", Exp, 0, 2.0, false},
-            {"flat+Z", "auto", Adi},        {"flat+Z", "auto:blur", Adi}, {"flat+Z", "8", Adi},               {"flat+Z", "16", Adi, 0, 0, false},
+            {"flat+Z", "auto", Adi},        {"flat+Z", "auto:blur", Adi, 0, 0, false}, {"flat+Z", "8", Adi},               {"flat+Z", "16", Adi, 0, 0, false},
             {"flat+Z", "8", Exp, 0, 0, false},
         };
         if (!opt.runs("diffusion")) diffs.clear();
