@@ -106,7 +106,7 @@ std::vector<CommandDef> make_table() {
     add({"--diffuse"}, "", Kind::Action, D,
         "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
         "(default: the camera's thin lens) and composited");
-    add({"--solver"}, "NAME", Kind::Modifier, D, "diffusion solver: auto (default: per layer, explicit up to about 17 px of blur, else adi), adi (cost independent of the blur) or explicit (the paper's reference)");
+    add({"--solver"}, "NAME", Kind::Modifier, D, "diffusion solver: auto (default: per layer, explicit up to about 15 px of blur, else adi), adi (cost independent of the blur) or explicit (the paper's reference)");
     add({"--layers"}, "N|auto[:OPTS]|id[:CHANNEL]", Kind::Modifier, D,
         "how --diffuse splits the input into layers: auto (depth clusters; deep inputs also cut where the blur changes by more than max(2 px, largest/4)); options after auto: MAX layers, blur (cut flat+Z inputs too), blur=PX, gaps (no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel");
     add({"--adi-steps"}, "K", Kind::Modifier, D, "ADI sub-steps per layer (default 0: automatic, up to 64)");

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "flush_denormals.h"
 #include "gdof/diffusion.h"
 
 namespace gdof {
@@ -70,6 +71,7 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
     for (int step = 0; step < K; ++step) {
         // Rows: one system per row, all channels as lanes of the same matrix.
         bool ok = parallel_for(exec, H, [&](long y0, long y1) {
+            const ScopedFlushDenormals ftz;
             const std::size_t n = std::size_t(W);
             std::vector<double> g(n), cp(n), inv_m(n), x(n * std::size_t(nc));
             for (long yl = y0; yl < y1; ++yl) {
@@ -96,6 +98,7 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
         // Columns: a block of adjacent columns solved together as lanes, so
         // every load is a contiguous run of a row.
         ok = parallel_for(exec, nblocks, [&](long b0, long b1) {
+            const ScopedFlushDenormals ftz;
             const std::size_t n = std::size_t(H) * kColumnBlock;
             std::vector<double> g(n), cp(n), inv_m(n), x(n);
             for (long b = b0; b < b1; ++b) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "flush_denormals.h"
 #include "gdof/diffusion.h"
 
 namespace gdof {
@@ -48,6 +49,7 @@ Status diffuse_explicit(std::span<float* const> planes, int width, int height, c
         for (int it = 0; it < iters; ++it) {
             const float* u = plane;
             bool ok = parallel_for(exec, H, [&](long y0, long y1) {
+                const ScopedFlushDenormals ftz;
                 for (long yl = y0; yl < y1; ++yl) {
                     const int y = int(yl);
                     for (int x = 0; x < W; ++x) {

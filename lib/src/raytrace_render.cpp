@@ -10,25 +10,13 @@
 #include <mutex>
 #include <optional>
 
-#if defined(__SSE__) || defined(__x86_64__)
-#include <pmmintrin.h>
-#include <xmmintrin.h>
-#define GDOF_HAVE_FTZ 1
-#endif
-
+#include "flush_denormals.h"
 #include "gdof/lens_rays.h"
 #include "raytrace_internal.h"
 
 namespace gdof {
 
 namespace {
-
-void set_ftz_daz() {
-#ifdef GDOF_HAVE_FTZ
-    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-#endif
-}
 
 enum class Mode { Pinhole, StraightThinLens, Polyline };
 
@@ -165,7 +153,7 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
     }
 
     auto body = [&](long tb, long te) {
-        set_ftz_daz();
+        const ScopedFlushDenormals ftz;
         PixelCone cone = shared_cone ? *shared_cone : PixelCone{};
         PolylineRay poly;
         std::vector<rt::Sample> samples;

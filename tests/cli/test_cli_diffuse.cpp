@@ -156,7 +156,7 @@ TEST(cli_diffuse, DeepInputAndAThinLensFromTheFileWithoutBlurfield) {
 TEST(cli_diffuse, SolverLayersAdiStepsAndStats) {
     Scene sc;
     const std::string a = sc.dir.file("adi.exr"), e = sc.dir.file("explicit.exr");
-    // The default solver is auto: at 6 px every layer runs explicit (cheaper below ~17 px).
+    // The default solver is auto: at 6 px every layer runs explicit (cheaper below ~15 px).
     auto r = run_gdof("--stats " + sc.diffuse(sc.flat, sc.dir.file("auto.exr"), "--layers 3"));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "(solver auto)")) << r.output;

@@ -49,12 +49,13 @@ int explicit_iterations(double max_radius_px, const DiffusionSettings& settings)
 // Number of ADI sub-steps used for a largest radius.
 int adi_steps_for(double max_radius_px, const DiffusionSettings& settings);
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
-// iterations, measured by tests/bench/bench_solvers (2.5 on a 2-core Xeon at
-// 640x360: both scale with the pixel count, so the ratio holds at any size).
-inline constexpr double kAdiStepCost = 2.5;
+// iterations, measured by tests/bench/bench_solvers (2.0 on a quiet 2-core
+// Xeon at 640x360, 2.5 on the same machine under load: both scale with the
+// pixel count, so the ratio holds at any size).
+inline constexpr double kAdiStepCost = 2.0;
 // The solver that runs for a largest radius: settings.solver unless it is
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
-// (with the default settings: R <= 17 px), else ADI. Both give the same
+// (with the default settings: R <= 15.6 px), else ADI. Both give the same
 // Gaussian within 1% relative L2, so the choice only changes the run time.
 DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& settings);
 
