@@ -21,7 +21,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 double solver_max_radius(const std::vector<float>& radius_map) {
     float dmax = 0.0f;
     for (float r : radius_map) dmax = std::max(dmax, float(diffusivity_from_radius(r)));
-    return std::sqrt(8.0 * double(dmax));
+    return radius_from_diffusivity(dmax);
 }
 
 }  // namespace
@@ -29,7 +29,7 @@ double solver_max_radius(const std::vector<float>& radius_map) {
 DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double layer_max_radius,
                                         const std::vector<float>& radius_map) {
     DiffusionSettings s = base;
-    const double r_layer = std::sqrt(8.0 * double(float(diffusivity_from_radius(layer_max_radius))));
+    const double r_layer = radius_from_diffusivity(float(diffusivity_from_radius(layer_max_radius)));
     // Auto is decided by the whole layer's largest radius, so every tile of a
     // layer runs the same solver.
     s.solver = choose_solver(r_layer, base);

@@ -63,7 +63,7 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
     const int W = width, H = height, nc = int(planes.size());
     float dmax = 0.0f;
     for (std::size_t i = 0; i < std::size_t(W) * std::size_t(H); ++i) dmax = std::max(dmax, diffusivity[i]);
-    const int K = adi_steps_for(std::sqrt(8.0 * double(dmax)), settings);
+    const int K = adi_steps_for(radius_from_diffusivity(dmax), settings);
     const double dt = 1.0 / K;
     auto D = [&](int x, int y) { return double(diffusivity[std::size_t(y) * std::size_t(W) + std::size_t(x)]); };
     const long nblocks = (W + kColumnBlock - 1) / kColumnBlock;

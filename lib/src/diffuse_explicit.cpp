@@ -26,7 +26,7 @@ Status diffuse_explicit(std::span<float* const> planes, int width, int height, c
     float dmax = 0.0f;
     for (std::size_t i = 0; i < n; ++i) dmax = std::max(dmax, diffusivity[i]);
     // iterations from the largest blur: dt * dmax * 10/3 <= 1 / safety
-    const double rmax = std::sqrt(8.0 * double(dmax));
+    const double rmax = radius_from_diffusivity(dmax);
     const int iters = explicit_iterations(rmax, settings);
     const float dt = float(1.0 / iters);
 

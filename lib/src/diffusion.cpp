@@ -63,8 +63,9 @@ Status diffuse_planes(std::span<float* const> planes, int width, int height, con
         any = any || r > 0.0f;
     }
     if (!any) return Status::ok();  // identity, bit for bit
-    return choose_solver(std::sqrt(8.0 * double(dmax)), settings) == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
-                                                        : diffuse_adi(planes, width, height, d.data(), settings, exec);
+    const DiffusionSolver solver = choose_solver(radius_from_diffusivity(dmax), settings);
+    return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
+                                               : diffuse_adi(planes, width, height, d.data(), settings, exec);
 }
 
 }  // namespace gdof

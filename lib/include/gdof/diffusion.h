@@ -13,6 +13,7 @@
 //   premultiplied colour and alpha together so colour follows coverage.
 #pragma once
 
+#include <cmath>
 #include <span>
 
 #include "gdof/exec.h"
@@ -44,6 +45,9 @@ struct DiffusionSettings {
 
 // Diffusivity of a CoC radius in output pixels: D = (R / 2)^2 / 2.
 inline double diffusivity_from_radius(double radius_px) { return radius_px * radius_px / 8.0; }
+// Its inverse: the radius the solvers size their work by, from the largest
+// (float) diffusivity of a map.
+inline double radius_from_diffusivity(double d) { return std::sqrt(8.0 * d); }
 // Number of explicit iterations needed for a largest radius.
 int explicit_iterations(double max_radius_px, const DiffusionSettings& settings);
 // Number of ADI sub-steps used for a largest radius.
