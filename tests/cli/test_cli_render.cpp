@@ -16,7 +16,7 @@ TEST(cli_render, renders_multilayer_exr_with_aovs) {
     write_text(dir.file("scene.json"), plane_scene_json(R"(, "f_number": 2, "focus_distance": 4)", 40, 30));
     const std::string out = dir.file("out.exr");
     auto r = run_gdof("--stats --render " + quote(dir.file("scene.json")) + " --spp 8 --min-spp 2 -o " + quote(out));
-    if (built_without_embree(r)) GTEST_SKIP() << r.output;
+    if (built_without_embree(r)) GDOF_SKIP_OR_FAIL(r.output);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "Mrays/s")) << r.output;
     EXPECT_TRUE(contains(r.output, "segments")) << r.output;
@@ -39,7 +39,7 @@ TEST(cli_render, pinhole_and_blurfield_forms) {
     write_text(dir.file("field.json"),
                R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": 35, "f_number": 2, "focus_distance": 3, "sensor_width_mm": 36}})");
     auto r = run_gdof("--render " + quote(dir.file("scene.json")) + " --pinhole --spp 2 -o " + quote(dir.file("pin.exr")));
-    if (built_without_embree(r)) GTEST_SKIP() << r.output;
+    if (built_without_embree(r)) GDOF_SKIP_OR_FAIL(r.output);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = run_gdof("--render " + quote(dir.file("scene.json")) + " --blurfield " + quote(dir.file("field.json")) +
                  " --spp 4 -o " + quote(dir.file("field.exr")));
@@ -81,6 +81,6 @@ TEST(cli_render, generated_example_scene) {
     const std::string scene = std::string(GDOF_SOURCE_DIR) + "/examples/render/generated.json";
     ScratchDir dir;
     auto r = run_gdof("--render " + quote(scene) + " --pinhole --spp 1 -o " + quote(dir.file("gen.exr")));
-    if (built_without_embree(r)) GTEST_SKIP() << r.output;
+    if (built_without_embree(r)) GDOF_SKIP_OR_FAIL(r.output);
     ASSERT_EQ(r.exit_code, 0) << r.output;
 }

@@ -31,33 +31,11 @@
 
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
+#include "gdof/io/io_options.h"
 #include "gdof/status.h"
 
 namespace gdof::io {
 
-struct ReadOptions {
-    // Convert colour channels to the working space (scene-linear) on read.
-    // The source space comes from `colorspace` if set, else file metadata
-    // (oiio:ColorSpace), else by format: 8/16-bit PNG/JPEG/TIFF are sRGB,
-    // EXR/HDR/float TIFF are linear.
-    bool linearize = true;
-    std::string colorspace;
-    const ColourConfig* colour = nullptr;  // nullptr: ColourConfig::default_config()
-};
-
-struct WriteOptions {
-    // Channel storage type for float channels: "" keeps each channel's type
-    // (Half stays half, Float stays float), else "half" or "float" for all
-    // (UInt stays uint). For non-EXR formats also "uint8" / "uint16"; ""
-    // there means 8-bit, or 16-bit when oiio:BitsPerSample says 16 (16-bit
-    // PNG in, 16-bit PNG out), float for HDR.
-    std::string pixel_type;
-    std::string compression;  // "" keeps the image's StorageHints, else OIIO name
-    // Output colour space for display-referred formats (PNG/JPEG/8-bit TIFF):
-    // "" means sRGB for those formats and linear (no conversion) for EXR.
-    std::string colorspace;
-    const ColourConfig* colour = nullptr;
-};
 
 Result<ImageSet> read_image(const std::string& path, const ReadOptions& opts = {});
 Status write_image(const std::string& path, const ImageSet& images, const WriteOptions& opts = {});

@@ -1,0 +1,301 @@
+// StackReader (stack_reader.h): reference tiles through an OIIO ImageCache,
+// opened lazily, checked for size, linearised like read_image.
+#include "gdof/io/stack_reader.h"
+
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenImageIO/imagecache.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <filesystem>
+#include <mutex>
+#include <vector>
+
+#include "exr/exr_attributes.h"
+#include "colour/linearize.h"
+#include "files/files.h"
+
+namespace gdof::io {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+std::string size_str(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+// Simple header attributes of a non-EXR file (numbers and strings).
+void spec_to_metadata(const OIIO::ImageSpec& spec, Metadata& md) {
+    for (const auto& p : spec.extra_attribs) {
+        const std::string name = p.name().string();
+        if (name.rfind("oiio:", 0) == 0 || name == "compression") continue;
+        const OIIO::TypeDesc t = p.type();
+        if (t == OIIO::TypeString) md.set_string(name, p.get_string());
+        else if (t == OIIO::TypeFloat || t == OIIO::TypeDesc::DOUBLE) md.set_float(name, p.get_float());
+        else if (t == OIIO::TypeInt) md.set_int(name, p.get_int());
+    }
+}
+
+// One ImageCache for every StackReader of the process, created on first use
+// and never destroyed. Creating and destroying private caches while TBB
+// worker threads keep OIIO's per-thread cache records corrupts the heap
+// (seen with OIIO 2.4: a second reader after a first one was destroyed), so
+// readers share this one and release their files with invalidate().
+OIIO::ImageCache* stack_cache() {
+    static OIIO::ImageCache* cache = [] {
+        OIIO::ImageCache* c = OIIO::ImageCache::create(/*shared=*/false);
+        if (c) {
+            c->attribute("autoscanline", 1);
+            c->attribute("unassociatedalpha", 1);  // straight colour is linearised before premultiplying
+            c->attribute("max_open_files", 64);
+        }
+        return c;
+    }();
+    return cache;
+}
+
+}  // namespace
+
+struct StackReader::Impl {
+    FocalStack stack;
+    StackReaderOptions opts;
+    OIIO::ImageCache* cache = nullptr;
+
+    struct Ref {
+        bool opened = false;
+        Status status;          // the open's result (kept: errors repeat)
+        OIIO::ustring name;
+        Roi dw;                 // file data window
+        int ch[4] = {-1, -1, -1, -1};
+        int chbegin = 0, chend = 0;
+        bool grey = false;
+        std::string space;      // colour space to convert from ("" = none)
+        bool straight_alpha = false;
+        bool exr = false;
+    };
+    std::vector<Ref> refs;
+    std::mutex mu;
+    // The stack's size and data window origin, once known.
+    int width = 0, height = 0;
+    bool have_origin = false;
+    int ox = 0, oy = 0;
+    int first_ref = -1;
+    std::atomic<int> opened{0};
+    int unique_files_at_start = 0;  // the shared cache's count when this reader was made
+
+    std::string where(int i) const {
+        return "reference '" + stack.references[std::size_t(i)].path + "' (references[" + std::to_string(i) + "])";
+    }
+
+    // Opens reference i under `mu`.
+    Status open(int i) {
+        Ref& r = refs[std::size_t(i)];
+        if (r.opened) return r.status;
+        r.opened = true;
+        ++opened;
+        const std::string& path = stack.references[std::size_t(i)].path;
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) return r.status = Status::error(where(i) + ": file not found");
+        r.name = OIIO::ustring(path);
+        const OIIO::ImageSpec* spec = cache->imagespec(r.name);
+        if (!spec) {
+            std::string e = cache->geterror();
+            return r.status = Status::error(where(i) + ": cannot read: " + (e.empty() ? "unknown error" : e));
+        }
+        if (spec->deep) return r.status = Status::error(where(i) + ": is a deep image; a stack reference must be flat");
+        r.dw = {spec->x, spec->y, spec->x + spec->width, spec->y + spec->height};
+        // Size against the stack.
+        if (width == 0) {
+            width = spec->width;
+            height = spec->height;
+        }
+        if (spec->width != width || spec->height != height) {
+            const std::string against = first_ref >= 0 ? "reference '" + stack.references[std::size_t(first_ref)].path + "'"
+                                                        : std::string("the manifest's width/height");
+            return r.status = Status::error(where(i) + " is " + size_str(spec->width, spec->height) + " but " + against +
+                                            " is " + size_str(width, height) + " (all references must have one resolution)");
+        }
+        if (!have_origin) {
+            have_origin = true;
+            ox = spec->x;
+            oy = spec->y;
+        } else if (spec->x != ox || spec->y != oy) {
+            return r.status = Status::error(where(i) + ": data window origin (" + std::to_string(spec->x) + ", " +
+                                            std::to_string(spec->y) + ") differs from the other references' (" +
+                                            std::to_string(ox) + ", " + std::to_string(oy) + ")");
+        }
+        if (first_ref < 0) first_ref = i;
+        // Channels.
+        const int n = spec->nchannels;
+        auto find = [&](std::initializer_list<const char*> names) {
+            for (int c = 0; c < n; ++c) {
+                const std::string cn = lower(spec->channelnames[std::size_t(c)]);
+                for (const char* want : names)
+                    if (cn == want) return c;
+            }
+            return -1;
+        };
+        r.ch[0] = find({"r", "red"});
+        r.ch[1] = find({"g", "green"});
+        r.ch[2] = find({"b", "blue"});
+        r.ch[3] = find({"a", "alpha"});
+        if (r.ch[3] < 0 && spec->alpha_channel >= 0) r.ch[3] = spec->alpha_channel;
+        if (r.ch[0] < 0 && r.ch[1] < 0 && r.ch[2] < 0) {
+            if (n == 1 || (n == 2 && r.ch[3] >= 0)) {
+                r.grey = true;
+                r.ch[0] = r.ch[1] = r.ch[2] = (r.ch[3] == 0 ? 1 : 0);
+            } else if (n >= 3) {
+                r.ch[0] = 0, r.ch[1] = 1, r.ch[2] = 2;
+            }
+        }
+        int lo = n, hi = -1;
+        for (int c : r.ch)
+            if (c >= 0) lo = std::min(lo, c), hi = std::max(hi, c);
+        if (hi < 0) return r.status = Status::error(where(i) + ": no R, G, B or A channel");
+        r.chbegin = lo;
+        r.chend = hi + 1;
+        // Colour space, as read_image decides it.
+        r.exr = detail::has_exr_magic(path);
+        if (opts.linearize) {
+            const ColourConfig& config = detail::config_or_default(opts.colour);
+            std::string space = opts.colorspace;
+            if (space.empty() && !r.exr) {
+                const std::string cs = spec->get_string_attribute("oiio:ColorSpace");
+                if (!cs.empty() && !config.resolve(cs).empty()) space = cs;
+                else space = spec->format.is_floating_point() ? "linear" : "sRGB";
+            }
+            if (!space.empty()) {
+                if (config.resolve(space).empty())
+                    return r.status = Status::error(where(i) + ": unknown colour space '" + space + "'");
+                if (!config.is_linear(space)) r.space = space;
+            }
+            r.straight_alpha = !r.exr && r.ch[3] >= 0 && spec->get_int_attribute("oiio:UnassociatedAlpha", 0) != 0;
+        }
+        return r.status = Status::ok();
+    }
+};
+
+Result<std::unique_ptr<StackReader>> StackReader::create(const FocalStack& stack, const StackReaderOptions& opts) {
+    if (stack.references.empty()) return Status::error("the stack has no references");
+    std::unique_ptr<StackReader> r(new StackReader());
+    r->impl_ = std::make_unique<Impl>();
+    Impl& m = *r->impl_;
+    m.stack = stack;
+    m.opts = opts;
+    m.refs.resize(stack.references.size());
+    m.width = stack.width > 0 && stack.height > 0 ? stack.width : 0;
+    m.height = stack.width > 0 && stack.height > 0 ? stack.height : 0;
+    m.cache = stack_cache();
+    if (!m.cache) return Status::error("cannot create an OpenImageIO image cache");
+    // Process-wide settings: the last reader created sets them.
+    m.cache->attribute("max_memory_MB", float(std::max(16.0, opts.cache_memory_mb)));
+    m.cache->attribute("autotile", std::max(8, opts.cache_tile));
+    m.cache->getattribute("stat:unique_files", m.unique_files_at_start);
+    return r;
+}
+
+StackReader::~StackReader() {
+    if (!impl_ || !impl_->cache) return;
+    // Release this reader's tiles and file handles from the shared cache.
+    for (const Impl::Ref& r : impl_->refs)
+        if (r.opened && !r.name.empty()) impl_->cache->invalidate(r.name, true);
+}
+
+int StackReader::size() const { return int(impl_->refs.size()); }
+int StackReader::files_opened() const { return impl_->opened.load(); }
+int StackReader::cache_files_opened() const {
+    int n = 0;
+    impl_->cache->getattribute("stat:unique_files", n);
+    return n - impl_->unique_files_at_start;
+}
+
+Result<ReferenceInfo> StackReader::info(int i) {
+    if (i < 0 || i >= size()) return Status::error("reference " + std::to_string(i) + " out of range");
+    Impl& m = *impl_;
+    Impl::Ref r;
+    {
+        std::lock_guard<std::mutex> lock(m.mu);
+        if (Status s = m.open(i); !s) return s;
+        r = m.refs[std::size_t(i)];
+    }
+    const OIIO::ImageSpec* spec = m.cache->imagespec(r.name);
+    if (!spec) return Status::error(m.where(i) + ": cannot read: " + m.cache->geterror());
+    ReferenceInfo info;
+    info.data_window = r.dw;
+    info.display_window = {spec->full_x, spec->full_y, spec->full_x + spec->full_width, spec->full_y + spec->full_height};
+    if (r.exr) {
+        try {
+            Imf::InputFile file(m.stack.references[std::size_t(i)].path.c_str());
+            detail::exr_header_to_metadata(file.header(), info.metadata);
+        } catch (const std::exception& e) {
+            return Status::error(m.where(i) + ": reading the header: " + e.what());
+        }
+    } else {
+        spec_to_metadata(*spec, info.metadata);
+    }
+    return info;
+}
+
+Status StackReader::read_tile(int i, const Roi& tile, float* rgba) {
+    if (i < 0 || i >= size()) return Status::error("reference " + std::to_string(i) + " out of range");
+    Impl& m = *impl_;
+    Impl::Ref r;
+    {
+        std::lock_guard<std::mutex> lock(m.mu);
+        if (Status s = m.open(i); !s) return s;
+        r = m.refs[std::size_t(i)];
+    }
+    if (tile.empty()) return Status::ok();
+    if (tile.x0 < 0 || tile.y0 < 0 || tile.x1 > r.dw.width() || tile.y1 > r.dw.height())
+        return Status::error(m.where(i) + ": tile " + to_string(tile) + " is outside the image");
+    const int nch = r.chend - r.chbegin;
+    const std::size_t np = tile.npixels();
+    thread_local std::vector<float> buf;
+    buf.resize(np * std::size_t(nch));
+    if (!m.cache->get_pixels(r.name, 0, 0, r.dw.x0 + tile.x0, r.dw.x0 + tile.x1, r.dw.y0 + tile.y0, r.dw.y0 + tile.y1, 0,
+                             1, r.chbegin, r.chend, OIIO::TypeFloat, buf.data(), OIIO::AutoStride, OIIO::AutoStride,
+                             OIIO::AutoStride, r.chbegin, r.chend)) {
+        std::string e = m.cache->geterror();
+        return Status::error(m.where(i) + ": reading pixels " + to_string(tile) + ": " + (e.empty() ? "failed" : e));
+    }
+    for (std::size_t p = 0; p < np; ++p) {
+        const float* src = &buf[p * std::size_t(nch)];
+        float* dst = rgba + p * 4;
+        for (int c = 0; c < 3; ++c) dst[c] = r.ch[c] >= 0 ? src[r.ch[c] - r.chbegin] : 0.0f;
+        dst[3] = r.ch[3] >= 0 ? src[r.ch[3] - r.chbegin] : 1.0f;
+    }
+    if (!r.space.empty()) {
+        thread_local std::vector<float> planes;
+        planes.resize(np * 3);
+        float* pr = planes.data();
+        float* pg = pr + np;
+        float* pb = pg + np;
+        for (std::size_t p = 0; p < np; ++p) pr[p] = rgba[p * 4], pg[p] = rgba[p * 4 + 1], pb[p] = rgba[p * 4 + 2];
+        const ColourConfig& config = detail::config_or_default(m.opts.colour);
+        if (Status s = config.convert_planes(pr, pg, pb, np, r.space, detail::kWorkingSpace); !s)
+            return s.prefix(m.where(i));
+        for (std::size_t p = 0; p < np; ++p) rgba[p * 4] = pr[p], rgba[p * 4 + 1] = pg[p], rgba[p * 4 + 2] = pb[p];
+    }
+    if (r.straight_alpha)
+        for (std::size_t p = 0; p < np; ++p)
+            for (int c = 0; c < 3; ++c) rgba[p * 4 + std::size_t(c)] *= rgba[p * 4 + 3];
+    return Status::ok();
+}
+
+Status check_stack_files(const FocalStack& stack) {
+    for (std::size_t i = 0; i < stack.references.size(); ++i) {
+        const StackReference& r = stack.references[i];
+        std::error_code ec;
+        if (!std::filesystem::exists(r.path, ec))
+            return Status::error("reference '" + r.path + "' (references[" + std::to_string(i) + "], \"file\": \"" +
+                                 r.file + "\"): file not found");
+        if (std::filesystem::is_directory(r.path, ec))
+            return Status::error("reference '" + r.path + "' (references[" + std::to_string(i) + "]): is a folder");
+    }
+    return Status::ok();
+}
+
+}  // namespace gdof::io

@@ -1,0 +1,121 @@
+// One layer of the defocus pipeline, diffused: its radii extrapolated beyond
+// its coverage (the paper's Figure 7), its RGBA copied into a zero-padded
+// buffer over the work region so colour and coverage can spread outward, and
+// the heat equation run on the four planes with the same operator.
+#include <chrono>
+#include <cmath>
+
+#include "diffusion/defocus_internal.h"
+#include "gdof/fill.h"
+
+namespace gdof::defocus_detail {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The largest radius the solver will see in a radius map, computed exactly as
+// diffuse_planes does (through the float diffusivity).
+double solver_max_radius(const std::vector<float>& radius_map) {
+    float dmax = 0.0f;
+    for (float r : radius_map) dmax = std::max(dmax, float(diffusivity_from_radius(r)));
+    return radius_from_diffusivity(dmax);
+}
+
+}  // namespace
+
+DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double layer_max_radius,
+                                        const std::vector<float>& radius_map) {
+    DiffusionSettings s = base;
+    const double r_layer = radius_from_diffusivity(float(diffusivity_from_radius(layer_max_radius)));
+    // Auto is decided by the whole layer's largest radius, so every tile of a
+    // layer runs the same solver.
+    s.solver = choose_solver(r_layer, base);
+    if (s.solver == DiffusionSolver::Adi) {
+        s.adi_steps = adi_steps_for(r_layer, base);
+        return s;
+    }
+    // Explicit: the solver derives its iteration count from the map's largest
+    // radius; scale the safety factor so the count is the whole layer's.
+    const int target = explicit_iterations(r_layer, base);
+    const double r_map = solver_max_radius(radius_map);
+    if (!(r_map > 0.0) || explicit_iterations(r_map, base) == target) return s;
+    const double per_safety = diffusivity_from_radius(r_map) * 10.0 / 3.0;
+    double safety = std::clamp((double(target) - 0.5) / per_safety, 1.0, 100.0);
+    for (int k = 0; k < 8; ++k) {
+        s.explicit_safety = safety;
+        const int it = explicit_iterations(r_map, s);
+        if (it == target) break;
+        safety = std::clamp(safety * (it < target ? 1.0 + 1e-9 : 1.0 - 1e-9), 1.0, 100.0);
+    }
+    return s;
+}
+
+Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
+                     const Roi& extrapolation, const DiffusionSettings& settings, const Exec& exec, DiffusedLayer& out,
+                     DefocusStats& stats) {
+    const Image& img = layer.image;
+    const Roi win = img.data_window();
+    const int W = work.width(), H = work.height();
+    const std::size_t n = work.npixels();
+    out.work = work;
+    for (auto& p : out.rgba) p.assign(n, 0.0f);
+    if (n == 0) return Status::ok();
+    const Roi overlap = intersect(win, work);
+
+    // Radii over the extrapolation region: known pixels copied, the rest
+    // filled by push-pull; then cropped to the work region.
+    auto t0 = std::chrono::steady_clock::now();
+    const Roi ext = unite(extrapolation, work);
+    const int EW = ext.width(), EH = ext.height();
+    std::vector<float> full(ext.npixels(), 0.0f), weight(ext.npixels(), 0.0f);
+    const Roi known_area = intersect(win, ext);
+    for (int y = known_area.y0; y < known_area.y1; ++y)
+        for (int x = known_area.x0; x < known_area.x1; ++x) {
+            const std::size_t src = img.offset(x, y);
+            const std::size_t dst = std::size_t(y - ext.y0) * std::size_t(EW) + std::size_t(x - ext.x0);
+            const float wgt = known_weight(analysis, layer, src);
+            if (wgt > 0.0f) {
+                weight[dst] = wgt;
+                full[dst] = analysis.radius[src];
+            }
+        }
+    float* fp = full.data();
+    if (!push_pull_fill(std::span<float* const>(&fp, 1), weight.data(), EW, EH)) {
+        // No known radius at all: use the layer's largest.
+        std::fill(full.begin(), full.end(), float(analysis.max_radius));
+    }
+    std::vector<float> radius(n);
+    const float rmax = float(analysis.max_radius);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
+            radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
+        }
+    stats.t_extrapolate += seconds_since(t0);
+
+    // Colour and coverage, zero-padded.
+    const int src_c[4] = {analysis.rgba.r, analysis.rgba.g, analysis.rgba.b, analysis.rgba.a};
+    for (int c = 0; c < 4; ++c) {
+        const float* src = img.plane(src_c[c]);
+        float* dst = out.rgba[std::size_t(c)].data();
+        for (int y = overlap.y0; y < overlap.y1; ++y) {
+            const float* s = src + img.offset(overlap.x0, y);
+            float* d = dst + std::size_t(y - work.y0) * std::size_t(W) + std::size_t(overlap.x0 - work.x0);
+            std::copy(s, s + overlap.width(), d);
+        }
+    }
+
+    t0 = std::chrono::steady_clock::now();
+    const DiffusionSettings s = layer_solver_settings(settings, analysis.max_radius, radius);
+    ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
+    std::array<float*, 4> planes{out.rgba[0].data(), out.rgba[1].data(), out.rgba[2].data(), out.rgba[3].data()};
+    Status st = diffuse_planes(planes, W, H, radius.data(), s, exec);
+    stats.t_diffuse += seconds_since(t0);
+    if (!st) return st.prefix(layer_label(layer, index));
+    return Status::ok();
+}
+
+}  // namespace gdof::defocus_detail

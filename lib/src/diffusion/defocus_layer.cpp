@@ -1,0 +1,111 @@
+// One layer of the defocus pipeline, before diffusion: its content, the blur
+// radius at each pixel's world position and the checks on those radii.
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "diffusion/defocus_internal.h"
+
+namespace gdof::defocus_detail {
+
+namespace {
+
+std::string pixel_str(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
+
+std::string num(double v) {
+    std::ostringstream o;
+    o.precision(6);
+    o << v;
+    return o.str();
+}
+
+}  // namespace
+
+std::string layer_label(const Layer& layer, int index) {
+    return "layer " + std::to_string(index) + (layer.name.empty() ? std::string() : " '" + layer.name + "'");
+}
+
+float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t i) {
+    const Image& img = layer.image;
+    if (a.radius_from_alpha) {
+        const float alpha = img.plane(a.rgba.a)[i];
+        return alpha > 0.0f ? std::min(alpha, 1.0f) : 0.0f;
+    }
+    const bool content = img.plane(a.rgba.r)[i] != 0.0f || img.plane(a.rgba.g)[i] != 0.0f ||
+                         img.plane(a.rgba.b)[i] != 0.0f;
+    return content && std::isfinite(a.radius[i]) ? 1.0f : 0.0f;
+}
+
+Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
+                                    const DiffusionSettings& settings, const Exec& exec) {
+    const Image& img = layer.image;
+    const std::string where = layer_label(layer, index);
+    LayerAnalysis a;
+    a.rgba = find_rgba(img);
+    for (auto [c, name] : {std::pair{a.rgba.r, "R"}, {a.rgba.g, "G"}, {a.rgba.b, "B"}, {a.rgba.a, "A"}}) {
+        if (c < 0) return Status::error(where + ": no channel '" + std::string(name) + "'");
+        if (img.channel(c).type == PixelType::UInt)
+            return Status::error(where + ": channel '" + std::string(name) + "' is not a float channel");
+    }
+    const Roi win = img.data_window();
+    const int w = win.width();
+    if (win.empty()) return a;
+
+    // Content: any of R, G, B, A non-zero. Colour must be finite.
+    const float* planes[4] = {img.plane(a.rgba.r), img.plane(a.rgba.g), img.plane(a.rgba.b), img.plane(a.rgba.a)};
+    bool any_alpha = false;
+    Roi content;
+    for (int y = 0; y < win.height(); ++y) {
+        int xmin = w, xmax = -1;
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            bool nz = false;
+            for (int c = 0; c < 4; ++c) {
+                const float v = planes[c][i];
+                if (!std::isfinite(v))
+                    return Status::error(where + ": channel '" + std::string("RGBA").substr(std::size_t(c), 1) +
+                                         "' is " + num(v) + " at pixel " + pixel_str(win.x0 + x, win.y0 + y) +
+                                         " (colour must be finite)");
+                nz = nz || v != 0.0f;
+            }
+            any_alpha = any_alpha || planes[3][i] > 0.0f;
+            if (nz) {
+                xmin = std::min(xmin, x);
+                xmax = x;
+            }
+        }
+        if (xmax >= 0) content = unite(content, Roi{win.x0 + xmin, win.y0 + y, win.x0 + xmax + 1, win.y0 + y + 1});
+    }
+    if (content.empty()) return a;
+    a.empty = false;
+    a.content = content;
+    a.radius_from_alpha = any_alpha;
+
+    a.radius.assign(img.npixels(), 0.0f);
+    if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, a.radius.data(), exec); !st)
+        return st.prefix(where + ": blur field");
+
+    const int zc = img.channel_index("Z");
+    double rmax = 0.0;
+    for (std::size_t i = 0; i < a.radius.size(); ++i) {
+        if (!(known_weight(a, layer, i) > 0.0f)) continue;
+        float& r = a.radius[i];
+        const int x = win.x0 + int(i % std::size_t(w)), y = win.y0 + int(i / std::size_t(w));
+        if (!std::isfinite(r)) {
+            std::string depth;
+            if (zc >= 0 && img.plane(zc)) depth = " (depth Z = " + num(img.plane(zc)[i]) + ")";
+            return Status::error(where + ": the blur field is " + num(r) + " at covered pixel " + pixel_str(x, y) +
+                                 depth + "; expected a finite radius");
+        }
+        if (r < 0.0f) r = 0.0f;
+        if (double(r) > settings.max_radius)
+            return Status::error(where + ": blur radius " + num(r) + " px at pixel " + pixel_str(x, y) +
+                                 " exceeds the diffusion max_radius " + num(settings.max_radius) +
+                                 " px (clamp the blur field with \"max_radius\")");
+        rmax = std::max(rmax, double(r));
+    }
+    a.max_radius = rmax;
+    return a;
+}
+
+}  // namespace gdof::defocus_detail

@@ -1,0 +1,266 @@
+// Bicubic B-spline focus surfaces (focus_surfaces.h): evaluation, the
+// interpolating prefilter, the surfaces JSON, and near/far maps.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "gdof/focus_surfaces.h"
+#include "common/json_util.h"
+
+namespace gdof {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Uniform cubic B-spline basis at t in [0, 1].
+inline void basis(double t, double w[4]) {
+    const double t2 = t * t, t3 = t2 * t, s = 1.0 - t;
+    w[0] = s * s * s / 6.0;
+    w[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
+    w[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0;
+    w[3] = t3 / 6.0;
+}
+
+// Segment index and local parameter for n control points along [0, 1].
+inline void locate(double u, int n, int& seg, double& t) {
+    if (n <= 1) {
+        seg = 0;
+        t = 0;
+        return;
+    }
+    u = std::clamp(u, 0.0, 1.0) * double(n - 1);
+    seg = std::min(int(std::floor(u)), n - 2);
+    t = u - double(seg);
+}
+
+inline double phantom(double edge, double inner) {
+    if (std::isinf(edge) || std::isinf(inner)) return edge;
+    return 2.0 * edge - inner;
+}
+
+// Interpolating prefilter along one line of n values (stride apart): solves
+// P[0] = d[0], P[n-1] = d[n-1], (P[i-1] + 4 P[i] + P[i+1]) / 6 = d[i] (Thomas algorithm).
+void prefilter_line(double* d, int n, std::ptrdiff_t stride) {
+    if (n <= 2) return;
+    std::vector<double> c(std::size_t(n), 0.0), r(std::size_t(n), 0.0);
+    // Unknowns 1..n-2; boundary values move to the right-hand side.
+    for (int i = 1; i <= n - 2; ++i) r[std::size_t(i)] = 6.0 * d[i * stride];
+    r[1] -= d[0];
+    r[std::size_t(n - 2)] -= d[(n - 1) * stride];
+    // Forward sweep on the tridiagonal (1, 4, 1).
+    double denom = 4.0;
+    c[1] = 1.0 / denom;
+    r[1] /= denom;
+    for (int i = 2; i <= n - 2; ++i) {
+        denom = 4.0 - c[std::size_t(i - 1)];
+        c[std::size_t(i)] = 1.0 / denom;
+        r[std::size_t(i)] = (r[std::size_t(i)] - r[std::size_t(i - 1)]) / denom;
+    }
+    for (int i = n - 3; i >= 1; --i) r[std::size_t(i)] -= c[std::size_t(i)] * r[std::size_t(i + 1)];
+    for (int i = 1; i <= n - 2; ++i) d[i * stride] = r[std::size_t(i)];
+}
+
+using namespace json_util;
+
+double depth_value(const nlohmann::json& v, const std::string& path) {
+    if (v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "infinity")) return kInf;
+    if (!v.is_number()) fail(path, "must be a depth (number) or \"inf\", got " + type_name(v));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(path, "must be finite or \"inf\"");
+    if (d < 0) fail(path, "must be >= 0 (a depth in scene units), got " + std::to_string(d));
+    return d;
+}
+
+BSplineSurface parse_surface(const nlohmann::json& j, const std::string& path, bool interpolate) {
+    if (j.is_number() || j.is_string()) return BSplineSurface::constant(depth_value(j, path));
+    if (!j.is_object()) fail(path, "must be a number, \"inf\" or an object {\"grid\": [[...], ...]}, got " + type_name(j));
+    for (auto it = j.begin(); it != j.end(); ++it)
+        if (it.key() != "grid" && it.key() != "interpolate" && it.key() != "comment")
+            fail(path + "." + it.key(), "unknown key (allowed: grid, interpolate, comment)");
+    if (j.contains("interpolate")) {
+        if (!j["interpolate"].is_boolean()) fail(path + ".interpolate", "must be true or false, got " + type_name(j["interpolate"]));
+        interpolate = j["interpolate"].get<bool>();
+    }
+    if (!j.contains("grid")) fail(path + ".grid", "missing required key");
+    const nlohmann::json& g = j["grid"];
+    const std::string gp = path + ".grid";
+    if (!g.is_array() || g.empty()) fail(gp, "must be a non-empty array of rows (top row first)");
+    const int ny = int(g.size());
+    int nx = -1;
+    std::vector<double> values;
+    for (int r = 0; r < ny; ++r) {
+        const std::string rp = gp + "[" + std::to_string(r) + "]";
+        const nlohmann::json& row = g[std::size_t(r)];
+        if (!row.is_array() || row.empty()) fail(rp, "must be a non-empty array of depths, got " + type_name(row));
+        if (nx < 0) nx = int(row.size());
+        if (int(row.size()) != nx)
+            fail(rp, "has " + std::to_string(row.size()) + " values, row 0 has " + std::to_string(nx) +
+                         " (the grid must be rectangular)");
+        for (int c = 0; c < nx; ++c)
+            values.push_back(depth_value(row[std::size_t(c)], rp + "[" + std::to_string(c) + "]"));
+    }
+    auto s = BSplineSurface::create(nx, ny, std::move(values), interpolate);
+    if (!s) fail(path, s.message());
+    return std::move(s).value();
+}
+
+}  // namespace
+
+BSplineSurface BSplineSurface::constant(double value) {
+    BSplineSurface s;
+    s.cp_[0] = value;
+    return s;
+}
+
+Result<BSplineSurface> BSplineSurface::create(int nx, int ny, std::vector<double> values, bool interpolate) {
+    if (nx < 1 || ny < 1) return Status::error("control grid must be at least 1 x 1");
+    if (values.size() != std::size_t(nx) * std::size_t(ny))
+        return Status::error("control grid has " + std::to_string(values.size()) + " values, expected " +
+                             std::to_string(nx) + " x " + std::to_string(ny));
+    for (double v : values) {
+        if (std::isnan(v) || v == -kInf) return Status::error("control values must be numbers or +inf");
+        if (interpolate && std::isinf(v))
+            return Status::error("\"interpolate\": true cannot pass through infinite control values "
+                                 "(use the default approximating surface, or finite depths)");
+    }
+    BSplineSurface s;
+    s.nx_ = nx;
+    s.ny_ = ny;
+    s.interpolate_ = interpolate;
+    s.cp_ = std::move(values);
+    if (interpolate) {
+        for (int j = 0; j < ny; ++j) prefilter_line(s.cp_.data() + std::size_t(j) * std::size_t(nx), nx, 1);
+        for (int i = 0; i < nx; ++i) prefilter_line(s.cp_.data() + i, ny, nx);
+    }
+    return s;
+}
+
+double BSplineSurface::phantom_x(int i, int j) const {
+    // Row j is inside the grid; i may be -1 or nx_.
+    const double* row = cp_.data() + std::size_t(j) * std::size_t(nx_);
+    if (nx_ == 1) return row[0];
+    if (i < 0) return phantom(row[0], row[1]);
+    if (i >= nx_) return phantom(row[nx_ - 1], row[nx_ - 2]);
+    return row[i];
+}
+
+double BSplineSurface::cp(int i, int j) const {
+    if (ny_ == 1) return phantom_x(i, 0);
+    if (j < 0) return phantom(phantom_x(i, 0), phantom_x(i, 1));
+    if (j >= ny_) return phantom(phantom_x(i, ny_ - 1), phantom_x(i, ny_ - 2));
+    return phantom_x(i, j);
+}
+
+double BSplineSurface::evaluate(double u, double v) const {
+    if (nx_ == 1 && ny_ == 1) return cp_[0];
+    int sx, sy;
+    double tx, ty, wx[4], wy[4];
+    locate(u, nx_, sx, tx);
+    locate(v, ny_, sy, ty);
+    basis(tx, wx);
+    basis(ty, wy);
+    if (nx_ == 1) wx[0] = 0, wx[1] = 1, wx[2] = 0, wx[3] = 0;
+    if (ny_ == 1) wy[0] = 0, wy[1] = 1, wy[2] = 0, wy[3] = 0;
+    double sum = 0.0;
+    for (int b = 0; b < 4; ++b) {
+        if (wy[b] == 0.0) continue;
+        double row = 0.0;
+        for (int a = 0; a < 4; ++a) {
+            if (wx[a] == 0.0) continue;
+            const double p = cp(sx - 1 + a, sy - 1 + b);
+            if (std::isinf(p)) return kInf;
+            row += wx[a] * p;
+        }
+        sum += wy[b] * row;
+    }
+    return sum;
+}
+
+Result<FocusSurfaces> parse_focus_surfaces(const std::string& text) {
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+        return Status::error(std::string("surfaces JSON: ") + e.what());
+    }
+    try {
+        if (!j.is_object()) fail("top level", "must be an object {\"near\": ..., \"far\": ...}, got " + type_name(j));
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            const std::string& k = it.key();
+            if (k != "gdof_surfaces" && k != "interpolate" && k != "near" && k != "far" && k != "comment")
+                fail(k, "unknown key (allowed: gdof_surfaces, interpolate, near, far, comment)");
+        }
+        if (j.contains("gdof_surfaces") && (!j["gdof_surfaces"].is_number_integer() || j["gdof_surfaces"].get<long long>() != 1))
+            fail("gdof_surfaces", "unsupported version " + j["gdof_surfaces"].dump() + " (this gdof reads version 1)");
+        bool interpolate = false;
+        if (j.contains("interpolate")) {
+            if (!j["interpolate"].is_boolean()) fail("interpolate", "must be true or false, got " + type_name(j["interpolate"]));
+            interpolate = j["interpolate"].get<bool>();
+        }
+        if (!j.contains("near")) fail("near", "missing required key");
+        if (!j.contains("far")) fail("far", "missing required key");
+        FocusSurfaces s;
+        s.near = parse_surface(j["near"], "near", interpolate);
+        s.far = parse_surface(j["far"], "far", interpolate);
+        return s;
+    } catch (const JsonError& e) {
+        return Status::error("surfaces: " + e.message);
+    }
+}
+
+Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, int height, const Exec& exec) {
+    if (width <= 0 || height <= 0)
+        return Status::error("focus surfaces: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                             " is empty");
+    DesiredFocus d;
+    d.window = {0, 0, width, height};
+    d.near.resize(d.npixels());
+    d.far.resize(d.npixels());
+    const bool ok = parallel_for(exec, height, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y) {
+            const double v = (double(y) + 0.5) / double(height);
+            for (int x = 0; x < width; ++x) {
+                const double u = (double(x) + 0.5) / double(width);
+                const std::size_t o = std::size_t(y) * std::size_t(width) + std::size_t(x);
+                d.near[o] = float(s.near.evaluate(u, v));
+                d.far[o] = float(s.far.evaluate(u, v));
+            }
+        }
+    }, 16);
+    if (!ok) return Status::error("cancelled");
+    return d;
+}
+
+int find_focus_map_channel(const Image& img, const std::string& name) {
+    for (const std::string& n : {name, std::string("Z"), std::string("Y")}) {
+        const int c = img.channel_index(n);
+        if (c >= 0 && img.channel(c).type != PixelType::UInt) return c;
+    }
+    for (int c = 0; c < img.nchannels(); ++c)
+        if (img.channel(c).type != PixelType::UInt) return c;
+    return -1;
+}
+
+Result<DesiredFocus> desired_from_maps(const Image& near_img, int near_channel, const Image& far_img, int far_channel) {
+    if (near_channel < 0 || near_channel >= near_img.nchannels() || !near_img.plane(near_channel))
+        return Status::error("near map: no float channel to read");
+    if (far_channel < 0 || far_channel >= far_img.nchannels() || !far_img.plane(far_channel))
+        return Status::error("far map: no float channel to read");
+    if (near_img.width() != far_img.width() || near_img.height() != far_img.height())
+        return Status::error("near map is " + std::to_string(near_img.width()) + "x" + std::to_string(near_img.height()) +
+                             " but far map is " + std::to_string(far_img.width()) + "x" +
+                             std::to_string(far_img.height()));
+    DesiredFocus d;
+    d.window = {0, 0, near_img.width(), near_img.height()};
+    d.near.assign(near_img.plane(near_channel), near_img.plane(near_channel) + near_img.npixels());
+    d.far.assign(far_img.plane(far_channel), far_img.plane(far_channel) + far_img.npixels());
+    return d;
+}
+
+}  // namespace gdof
