@@ -1,4 +1,5 @@
 // The command table and argv -> Program.
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -232,6 +233,13 @@ void validate_structure(const Program& p) {
 }
 
 }  // namespace
+
+std::string message_naming_flag(const Status& s) {
+    if (s.subject().empty()) return s.message();
+    std::string flag = "--" + s.subject();
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return find_command(flag) ? s.message() + " (" + flag + ")" : s.message();
+}
 
 double parse_double(const std::string& flag, const std::string& v) {
     char* end = nullptr;

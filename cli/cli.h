@@ -36,6 +36,7 @@
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
 #include "gdof/layers.h"
+#include "gdof/raytrace.h"
 #include "gdof/status.h"
 
 namespace gdof::cli {
@@ -82,6 +83,9 @@ struct CommandDef {
 };
 const std::vector<CommandDef>& command_table();
 const CommandDef* find_command(const std::string& name);
+// A library error's message, followed by the flag that sets the setting it is
+// about (its subject, e.g. "focal_length_mm" -> " (--focal-length-mm)").
+std::string message_naming_flag(const Status& s);
 // Parses a number for a flag; usage error naming the flag otherwise.
 double parse_double(const std::string& flag, const std::string& value);
 
@@ -235,7 +239,7 @@ struct Frame {
     // --composite (method 2) and its options, which may follow it
     // (gdof --composite m.json --surfaces s.json): it runs before the next
     // other step, or at the end.
-    struct CompositeOptions {
+    struct PendingComposite {
         std::string manifest;  // pending --composite ("" none)
         std::string surfaces, near_map, far_map;
         int soft_k = 1;
@@ -247,13 +251,13 @@ struct Frame {
     std::string lightfield_config, stack_spec;    // --lf, --stack
 
     // --render (method 1) and its options; it runs before the next other step.
-    struct RenderOptions {
+    struct PendingRender {
         std::string scene;  // pending --render ("" none)
         int spp = 64, min_spp = 4, light_samples = 2;
         double adaptive_threshold = 0.01;
         bool pinhole = false, straight_thin_lens = false;
         bool deep = false;         // --deep: a deep image (for method 3)
-        unsigned aovs = 0x1fu;     // --aovs=LIST (kAovAll)
+        RenderAov aovs = RenderAov::All;  // --aovs=LIST
         std::string stack_spec;    // --stack after --render: the next -o writes a stack
     } render;
 

@@ -39,13 +39,7 @@ LensOverrides lens_overrides(const Frame& f) {
 Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const std::string& flag,
                    const std::string& where) {
     auto cam = resolve_camera(md, display, lens_overrides(f));
-    if (!cam) {
-        std::string msg = cam.message();
-        // Name the flag that supplies a camera on the command line.
-        const std::string generic = "give a focal length";
-        if (auto at = msg.find(generic); at != std::string::npos) msg.replace(at, generic.size(), "give --focal-length-mm");
-        runtime_error(flag + ": " + where + ": " + msg);
-    }
+    if (!cam) runtime_error(flag + ": " + where + ": " + message_naming_flag(cam.status()));
     return std::move(cam).value();
 }
 

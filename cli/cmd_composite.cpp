@@ -49,7 +49,7 @@ Image read_map(Frame& f, const std::string& flag, const std::string& path) {
 
 void run_composite(Frame& f) {
     Session& s = *f.session;
-    Frame::CompositeOptions o = f.composite;
+    Frame::PendingComposite o = f.composite;
     f.composite.manifest.clear();
     const std::string flag = "--composite";
     const std::string mpath = o.manifest;
@@ -112,7 +112,7 @@ void run_composite(Frame& f) {
             const Image& img = top.images.flat(0);
             const Camera camera = part_camera(f, img.metadata, img.display_window(), flag, where);
             const BlurField field = field_for(f, camera, flag, where);
-            BlurFocusSettings bs;
+            BlurFocusOptions bs;
             bs.coc_px = stack.coc_px;
             bs.source = PositionSource{f.position_channels, f.depth_channel, f.depth_decode};
             s.progress.begin("composite: near/far from the blur field");
@@ -133,7 +133,7 @@ void run_composite(Frame& f) {
     std::vector<DepthInterval> limits;
     for (const StackReference& r : stack.references) limits.push_back({r.near, r.far});
     const StackIndex index = take(StackIndex::build(limits), flag + " '" + mpath + "'");
-    CompositeSettings cs;
+    CompositeOptions cs;
     cs.soft_k = o.soft_k;
     cs.aovs = o.aovs;
     CompositeStats stats;

@@ -38,7 +38,7 @@ void do_diffuse(Frame& f) {
     const Camera camera = part_camera(f, top.images.metadata(ref), part_display(top.images, ref), "--diffuse", where);
     const BlurField field = field_for(f, camera, "--diffuse", where);
 
-    DefocusSettings settings;
+    DefocusOptions settings;
     settings.diffusion.solver = f.solver;
     settings.diffusion.adi_steps = f.adi_steps;
     settings.split = f.layer_split;
@@ -53,12 +53,7 @@ void do_diffuse(Frame& f) {
         s.progress.end();
     }
     check_interrupted();
-    if (!result) {
-        std::string msg = result.message();
-        // Name the flags behind the settings the library mentions.
-        if (msg.find("depth channel '") != std::string::npos && !f.depth_channel.empty()) msg += " (--depth-channel)";
-        runtime_error("--diffuse: " + where + ": " + msg);
-    }
+    if (!result) runtime_error("--diffuse: " + where + ": " + message_naming_flag(result.status()));
     top.images = std::move(result).value();
 
     s.stats.add(" layers", stats.t_layers);

@@ -33,7 +33,7 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
 
     io::LightFieldConfig config;
     if (!f.lightfield_config.empty()) config = take(io::read_lightfield_config(f.lightfield_config), "--lf");
-    StackSpec spec = take(io::read_stack_spec(f.stack_spec), "--stack");
+    ExtractStackOptions spec = take(io::read_extract_stack_options(f.stack_spec), "--stack");
     spec.scene_unit_mm = config.scene_unit_mm;
 
     const StackOutput out(f, pattern, spec.references.size());

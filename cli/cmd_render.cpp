@@ -27,8 +27,8 @@ Scene load_render_scene(Frame& f, const std::string& path) {
     return std::move(scene).value();
 }
 
-RenderSettings render_settings(const Frame::RenderOptions& o) {
-    RenderSettings rs;
+RenderOptions render_settings(const Frame::PendingRender& o) {
+    RenderOptions rs;
     rs.spp = o.spp;
     rs.min_spp = o.min_spp;
     rs.pinhole = o.pinhole;
@@ -62,12 +62,12 @@ std::shared_ptr<const RayTracer> build_tracer(Frame& f, const Scene& scene, cons
 
 void run_render(Frame& f) {
     Session& s = *f.session;
-    Frame::RenderOptions& o = f.render;
+    Frame::PendingRender& o = f.render;
     const std::string scene_path = o.scene;
     o.scene.clear();
     const Scene scene = load_render_scene(f, scene_path);
     const auto tracer = build_tracer(f, scene, scene_path);
-    RenderSettings rs = render_settings(o);
+    RenderOptions rs = render_settings(o);
     std::optional<BlurField> field;  // --blurfield (field_for returns it when one was given)
     if (f.blur && !o.pinhole) {
         field = field_for(f, scene.camera, "--render", "'" + scene_path + "'");
@@ -104,14 +104,14 @@ void run_render(Frame& f) {
 
 void do_render_stack_output(Frame& f, const std::string& pattern) {
     Session& s = *f.session;
-    Frame::RenderOptions& o = f.render;
+    Frame::PendingRender& o = f.render;
     const std::string scene_path = o.scene, spec_path = o.stack_spec;
     o.scene.clear();
     o.stack_spec.clear();
     check_stack_pattern(pattern, "a rendered focus/aperture stack");
     if (f.blur) usage_error("--render --stack: each reference is the scene camera's thin lens; drop --blurfield");
     if (o.pinhole || o.deep) usage_error("--render --stack: --pinhole and --deep do not apply to a stack");
-    const RenderStackSpec spec = take(parse_render_stack_spec(read_text("--stack", "file", spec_path), "'" + spec_path + "'"), "--stack");
+    const RenderStackOptions spec = take(parse_render_stack_options(read_text("--stack", "file", spec_path), "'" + spec_path + "'"), "--stack");
     const Scene scene = load_render_scene(f, scene_path);
     // Plan first: bad references fail before any file is written.
     const FocalStack plan = take(plan_render_stack(scene.camera, spec), "--stack '" + spec_path + "'");
@@ -167,7 +167,7 @@ int parse_count(const std::string& flag, const std::string& v, int lo) {
 bool render_step(Frame& f, const Step* step) {
     if (step && !step->is_input()) {
         const std::string& n = step->name();
-        Frame::RenderOptions& o = f.render;
+        Frame::PendingRender& o = f.render;
         const std::string& a = step->args.empty() ? std::string() : step->args[0];
         if (n == "--render") {
             if (!o.scene.empty()) run_render(f);
@@ -190,7 +190,7 @@ bool render_step(Frame& f, const Step* step) {
                 if (!aovs) usage_error(step->flag + ": " + aovs.message());
                 o.aovs = aovs.value();
             } else {
-                o.aovs = kAovAll;
+                o.aovs = RenderAov::All;
             }
             return true;
         }

@@ -197,8 +197,8 @@ LensOverrides lens_overrides(const DefocusParams& p) {
     return o;
 }
 
-Result<DefocusSettings> defocus_settings(const DefocusParams& p) {
-    DefocusSettings s;
+Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
+    DefocusOptions s;
     auto solver = parse_diffusion_solver(p.solver.c_str());
     if (!solver) return solver.status().prefix("parameter 'solver'");
     s.diffusion.solver = *solver;

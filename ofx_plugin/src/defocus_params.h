@@ -59,6 +59,6 @@ std::string blur_field_json(const DefocusParams& p, double scale);
 LensOverrides lens_overrides(const DefocusParams& p);
 // Solver, layer split, depth source (channel "Z", decoded per the
 // parameters; position passes as "P.x/y/z" with metric Z). Errors name the parameter.
-Result<DefocusSettings> defocus_settings(const DefocusParams& p);
+Result<DefocusOptions> defocus_settings(const DefocusParams& p);
 
 }  // namespace gdof::ofx

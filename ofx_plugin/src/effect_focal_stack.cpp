@@ -215,7 +215,7 @@ private:
         return std::move(d).value();
     }
 
-    static StackSelection select(const FocalStack& stack, const DesiredFocus& d, const CompositeSettings& cs,
+    static StackSelection select(const FocalStack& stack, const DesiredFocus& d, const CompositeOptions& cs,
                                  const Exec& exec) {
         std::vector<DepthInterval> limits;
         for (const StackReference& r : stack.references) limits.push_back({r.near, r.far});
@@ -234,7 +234,7 @@ private:
         const Roi grid = gdof_pixels(f, stack_rod(src, fs));
         const Roi window = intersect(f.to_gdof(a.window), grid);
         if (window.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.soft_k = p.soft;
         const DesiredFocus whole = desired(fx, p, f, a.time, grid, exec);
         const Roi local{window.x0 - grid.x0, window.y0 - grid.y0, window.x1 - grid.x0, window.y1 - grid.y0};
@@ -274,7 +274,7 @@ private:
                                      int(std::ceil(ws.x1 / f.sx)), int(std::ceil(ws.y1 / f.sy))},
                                  fs.grid);
         if (w1.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.soft_k = p.soft;
         const DesiredFocus whole = desired(fx, p, f, a.time, fs.grid, exec);
         const Roi local{w1.x0 - fs.grid.x0, w1.y0 - fs.grid.y0, w1.x1 - fs.grid.x0, w1.y1 - fs.grid.y0};

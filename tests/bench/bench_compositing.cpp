@@ -124,7 +124,7 @@ void BM_composite(benchmark::State& state) {
     std::vector<gdof::DepthInterval> l;
     for (const auto& r : s.references) l.push_back({r.near, r.far});
     const gdof::StackIndex index = gdof::StackIndex::build(l).value();
-    gdof::CompositeSettings cs;
+    gdof::CompositeOptions cs;
     cs.soft_k = int(state.range(0));
     int used = 0;
     for (auto _ : state) {

@@ -233,7 +233,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
 
     // Inputs of the post-process methods: the all-in-focus render (flat + Z/P) and its deep form.
     // Inputs as clean as the ground truth (a compositor's plates are not noisy).
-    RenderSettings in;
+    RenderOptions in;
     in.pinhole = true;
     in.spp = big ? 256 : 1024;
     in.adaptive_threshold = 0.002;
@@ -263,7 +263,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     const double znear = zs[zs.size() / 50], zfar = zs[zs.size() * 49 / 50];
     const double n0 = open_f_number(cam, scale, znear);
     const int nf = big ? 2 : 4;
-    RenderStackSpec spec;
+    RenderStackOptions spec;
     for (int i = 0; i < 12; ++i)
         for (int k = 0; k < nf; ++k) {
             const double t = i / 11.0;
@@ -272,15 +272,15 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     const FocalStack plan = take(plan_render_stack(cam, spec), "stack plan");
     std::vector<Image> refs;
     if (opt.prepare || opt.runs("compositing")) {
-        RenderSettings rs;
+        RenderOptions rs;
         rs.spp = big ? 32 : 128;
         rs.min_spp = big ? 8 : 16;
         rs.adaptive_threshold = 0.01;
-        rs.aovs = 0;
+        rs.aovs = RenderAov::None;
         for (std::size_t i = 0; i < plan.references.size(); ++i) {
             const std::string p = cdir + "/stack_f" + std::to_string(nf) + "_" + std::to_string(i) + ".exr";
             refs.push_back(cached_flat(p, [&] {
-                RenderSettings r = rs;
+                RenderOptions r = rs;
                 LensInfo l = cam.lens();
                 l.f_number = plan.references[i].f_number;
                 l.focus_distance = plan.references[i].focus_distance;
@@ -300,17 +300,17 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         const Roi frame = cam.display_window();
         // The field traced at `spp` (threshold 0: fixed), colour only.
         auto traced = [&](int spp, double threshold, int min_spp) {
-            RenderSettings rs;
+            RenderOptions rs;
             rs.spp = spp;
             rs.adaptive_threshold = threshold;
             rs.min_spp = min_spp;
             rs.blur_field = &field;
-            rs.aovs = 0;
+            rs.aovs = RenderAov::None;
             return rs;
         };
         const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
             std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
-            RenderSettings rs = traced(gt_spp, 0, RenderSettings{}.min_spp);
+            RenderOptions rs = traced(gt_spp, 0, RenderOptions{}.min_spp);
             rs.seed = 0x5eed;
             return take(render(*tracer, rs), "ground truth");
         }), frame);
@@ -329,7 +329,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         for (int spp : fixed) {
             if (big ? spp >= gt_spp : spp > gt_spp) continue;  // 1024 at 640x360 (--full): the ground truth's own noise
             RenderStats st;
-            Image img = take(render(*tracer, traced(spp, 0, RenderSettings{}.min_spp), &st), "raytrace");
+            Image img = take(render(*tracer, traced(spp, 0, RenderOptions{}.min_spp), &st), "raytrace");
             row("raytrace fixed", "spp=" + std::to_string(spp), st.seconds, img, st.primary_rays);
         }
         for (int cap : {16, 64, 256}) {
@@ -368,7 +368,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         if (!opt.runs("diffusion")) diffs.clear();
         for (const Diff& d : diffs) {
             if (big && !d.big) continue;
-            DefocusSettings ds;
+            DefocusOptions ds;
             ds.diffusion.solver = d.solver;
             ds.diffusion.adi_steps = d.adi_steps;
             if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
@@ -388,7 +388,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
-        BlurFocusSettings bfs;
+        BlurFocusOptions bfs;
         bfs.coc_px = plan.coc_px;
         const DesiredFocus desired = take(desired_from_blur_field(field, cam, pinhole, bfs), "desired focus");
         for (int n : {4, 8, 16, 24, 48}) {
@@ -408,7 +408,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                 imgs.push_back(&refs[std::size_t(k)]);
             const StackIndex index = take(StackIndex::build(iv), "stack index");
             for (int soft : {1, 3}) {
-                CompositeSettings cs;
+                CompositeOptions cs;
                 cs.soft_k = soft;
                 Image out;
                 const double secs = best_time(reps, [&] {

@@ -24,7 +24,7 @@ void run_solver(benchmark::State& state, gdof::DiffusionSolver solver) {
         for (std::size_t i = 0; i < r.size(); ++i) planes[c][i] = float((i * 2654435761u + c) % 1000) / 1000.0f;
     }
     std::array<float*, 4> ptr{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
-    gdof::DiffusionSettings s;
+    gdof::DiffusionOptions s;
     s.solver = solver;
     for (auto _ : state) {
         auto st = gdof::diffuse_planes(ptr, W, H, r.data(), s);

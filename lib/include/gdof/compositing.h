@@ -76,7 +76,7 @@ private:
     int n_ = 0;
 };
 
-struct CompositeSettings {
+struct CompositeOptions {
     // 1: the paper's hard pick (default). K in 2..16: soft mode, blending the best K
     // references with modified Shepard weights w_i = ((R - d_i) / (R d_i))^2,
     // R = deviation of the (K+1)-th best (w_i = 1 / d_i^2 when there is none),
@@ -105,7 +105,7 @@ struct StackSelection {
 
 // Step 2: no pixel data is touched.
 Result<StackSelection> select_references(const StackIndex& index, const DesiredFocus& desired,
-                                         const CompositeSettings& settings = {}, const Exec& exec = {});
+                                         const CompositeOptions& settings = {}, const Exec& exec = {});
 
 // Where reference pixels come from. read_tile is called concurrently from
 // several threads (for different tiles) and must be thread-safe.
@@ -144,7 +144,7 @@ struct CompositeStats {
 // Step 3: an image with float channels R, G, B, A (+ the AOVs) over the
 // selection's window moved to `origin` (the references' data window origin).
 // Display window = data window (callers set the references' one).
-Result<Image> composite_stack(const StackSelection& selection, StackPixels& pixels, const CompositeSettings& settings = {},
+Result<Image> composite_stack(const StackSelection& selection, StackPixels& pixels, const CompositeOptions& settings = {},
                               int origin_x = 0, int origin_y = 0, CompositeStats* stats = nullptr,
                               const Exec& exec = {});
 

@@ -23,8 +23,8 @@
 
 namespace gdof {
 
-struct DefocusSettings {
-    DiffusionSettings diffusion;
+struct DefocusOptions {
+    DiffusionOptions diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
     PositionSource source;   // position / depth channels and depth encoding
     // Output region in absolute pixels; empty = the whole result: the union
@@ -70,7 +70,7 @@ Roi defocus_output_region(const Roi& input_data_window, const Roi& display_windo
 // Defocuses prepared layers (front = index 0). Output: float R, G, B, A
 // (premultiplied) over settings.roi or the whole result.
 Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
-                             const DefocusSettings& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+                             const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
 
 // Defocuses a whole file's contents: a deep part -> layers_from_deep; several
 // RGBA layers/parts with P or Z -> layers_from_parts; a single flat RGBA with
@@ -79,6 +79,6 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
 // metadata; other channels of a flat input (Z, P, N, ids) are carried over
 // unchanged on the new data window (zero where the input had no data).
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
-                         const DefocusSettings& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+                         const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
 
 }  // namespace gdof

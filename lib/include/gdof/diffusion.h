@@ -29,7 +29,7 @@ enum class DiffusionSolver {
 const char* to_string(DiffusionSolver s);
 Result<DiffusionSolver> parse_diffusion_solver(const char* name);  // "auto" | "explicit" | "adi"
 
-struct DiffusionSettings {
+struct DiffusionOptions {
     DiffusionSolver solver = DiffusionSolver::Auto;
     // ADI: implicit sub-steps, each an x sweep then a y sweep. One step already
     // has the exact variance; more steps bring the kernel's shape closer to a
@@ -49,9 +49,9 @@ inline double diffusivity_from_radius(double radius_px) { return radius_px * rad
 // (float) diffusivity of a map.
 inline double radius_from_diffusivity(double d) { return std::sqrt(8.0 * d); }
 // Number of explicit iterations needed for a largest radius.
-int explicit_iterations(double max_radius_px, const DiffusionSettings& settings);
+int explicit_iterations(double max_radius_px, const DiffusionOptions& settings);
 // Number of ADI sub-steps used for a largest radius.
-int adi_steps_for(double max_radius_px, const DiffusionSettings& settings);
+int adi_steps_for(double max_radius_px, const DiffusionOptions& settings);
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
 // iterations, measured by tests/bench/bench_solvers (2.0 on a quiet 2-core
 // Xeon at 640x360, 2.5 on the same machine under load: both scale with the
@@ -61,7 +61,7 @@ inline constexpr double kAdiStepCost = 2.0;
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
 // (with the default settings: R <= 15.6 px), else ADI. Both give the same
 // Gaussian within 1% relative L2, so the choice only changes the run time.
-DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& settings);
+DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings);
 
 // Diffuses `planes` (each width*height floats, row-major, stride = width) in
 // place, with the per-pixel blur radius map `radius` (same layout). NaN or
@@ -69,12 +69,12 @@ DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& set
 // Pixels with radius 0 everywhere leave the planes bit-identical. Results do
 // not depend on exec.nthreads. Auto is resolved by the map's largest radius.
 Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
-                      const DiffusionSettings& settings, const Exec& exec = {});
+                      const DiffusionOptions& settings, const Exec& exec = {});
 
 // The two solvers, on diffusivities (D per pixel, already validated).
 Status diffuse_explicit(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                        const DiffusionSettings& settings, const Exec& exec);
+                        const DiffusionOptions& settings, const Exec& exec);
 Status diffuse_adi(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                   const DiffusionSettings& settings, const Exec& exec);
+                   const DiffusionOptions& settings, const Exec& exec);
 
 }  // namespace gdof

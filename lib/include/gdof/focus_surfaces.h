@@ -106,7 +106,7 @@ Result<DesiredFocus> desired_from_maps(const Image& near_img, int near_channel, 
 // "Z", else "Y", else the first float channel; -1 if none.
 int find_focus_map_channel(const Image& img, const std::string& name);
 
-struct BlurFocusSettings {
+struct BlurFocusOptions {
     double coc_px = 1.0;     // acceptable CoC radius (output px): B <= coc_px is "in focus"
     double depth_min = 0.0;  // search range along each ray (scene units)
     double depth_max = std::numeric_limits<double>::infinity();
@@ -125,7 +125,7 @@ struct BlurFocusSettings {
 // depth (so sky at +inf picks the farthest), else (no depth) the primary one;
 // if B never gets down to coc_px the interval is [d, d] at the sharpest depth d.
 Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camera& camera, const Image& depth_image,
-                                             const BlurFocusSettings& settings, const Exec& exec = {});
+                                             const BlurFocusOptions& settings, const Exec& exec = {});
 
 // The interval of `iv` chosen for a pixel at depth z (NaN: unknown), as above.
 DepthInterval choose_interval(const InFocusIntervals& iv, double z);

@@ -146,7 +146,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const 
 // coverage, a push-pull fill of its unpremultiplied colour, depth and
 // positions, with alpha 1; so blurring a nearer layer away reveals a
 // plausible continuation instead of black or a hole.
-struct ExtendBehind {
+struct ExtendOptions {
     double extend_px = 0.0;
     // The farthest non-empty layer fills every hidden pixel of the frame
     // (live-action plates: the background is everywhere).
@@ -155,7 +155,7 @@ struct ExtendBehind {
     // this (deep renders: 0.999, fully occluded); 0 = any nearer coverage.
     float occluder_alpha = 0.0f;
 };
-Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendBehind& options,
+Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                             const Exec& exec = {});
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A

@@ -98,7 +98,7 @@ enum class LightFieldFilter { Bicubic, Bilinear };
 const char* to_string(LightFieldFilter f);
 Result<LightFieldFilter> parse_lightfield_filter(const std::string& name);
 
-struct RefocusSettings {
+struct RefocusOptions {
     double focus_disparity = 0.0;  // d_f, px per view step
     double aperture_radius = 0.0;  // r, view steps (0: the central view)
     LightFieldFilter filter = LightFieldFilter::Bicubic;
@@ -106,7 +106,7 @@ struct RefocusSettings {
 
 // Shift-and-add refocus; the result has the central view's channels (float),
 // windows and metadata.
-Result<Image> refocus(const LightField& lf, const RefocusSettings& settings, const Exec& exec = {});
+Result<Image> refocus(const LightField& lf, const RefocusOptions& settings, const Exec& exec = {});
 
 // One reference of a stack: focus as a disparity, or a depth (converted with
 // the geometry; +inf = disparity_at_infinity), and an aperture radius.
@@ -116,7 +116,7 @@ struct StackRequest {
     double aperture_radius = 0.0;
 };
 
-struct StackSpec {
+struct ExtractStackOptions {
     std::vector<StackRequest> references;
     double coc_px = 1.0;  // acceptable CoC radius (px) for near/far
     LightFieldFilter filter = LightFieldFilter::Bicubic;
@@ -132,9 +132,9 @@ struct ExtractedStack {
 
 // Resolves each request's focus disparity and depth of field; errors name the
 // reference ("references[2].aperture_radius: ..."), duplicates are errors.
-Result<FocalStack> plan_stack(const LightField& lf, const StackSpec& spec);
+Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& spec);
 // Plans and refocuses every reference. Progress is reported over the whole stack.
-Result<ExtractedStack> extract_stack(const LightField& lf, const StackSpec& spec, const Exec& exec = {},
+Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const Exec& exec = {},
                                      const StackSink& sink = {});
 
 }  // namespace gdof

@@ -70,21 +70,29 @@ private:
     const Scene* scene_ = nullptr;
 };
 
-// Arbitrary output variables written beside the beauty (a bit set).
-enum RenderAov : unsigned {
-    kAovAlbedo = 1u << 0,    // albedo.R/G/B
-    kAovDepth = 1u << 1,     // Z
-    kAovPosition = 1u << 2,  // P.x/y/z
-    kAovNormal = 1u << 3,    // N.x/y/z
-    kAovId = 1u << 4,        // id (uint)
-    kAovAll = 0x1fu,
+// Arbitrary output variables written beside the beauty: a set of flags.
+enum class RenderAov : unsigned {
+    None = 0,
+    Albedo = 1u << 0,    // albedo.R/G/B
+    Depth = 1u << 1,     // Z
+    Position = 1u << 2,  // P.x/y/z
+    Normal = 1u << 3,    // N.x/y/z
+    Id = 1u << 4,        // id (uint)
+    All = 0x1fu,
 };
+constexpr RenderAov operator|(RenderAov a, RenderAov b) { return RenderAov(unsigned(a) | unsigned(b)); }
+constexpr RenderAov operator&(RenderAov a, RenderAov b) { return RenderAov(unsigned(a) & unsigned(b)); }
+// The complement within the known flags.
+constexpr RenderAov operator~(RenderAov a) { return RenderAov(~unsigned(a) & unsigned(RenderAov::All)); }
+constexpr RenderAov& operator|=(RenderAov& a, RenderAov b) { return a = a | b; }
+// True when `set` holds every flag of `flags` (and flags is not None).
+constexpr bool has(RenderAov set, RenderAov flags) { return flags != RenderAov::None && (set & flags) == flags; }
 // "albedo,Z,P,N,id" (any subset, any order), "all" or "none"; errors name
 // the unknown entry.
-Result<unsigned> parse_render_aovs(const std::string& list);
-std::string format_render_aovs(unsigned aovs);
+Result<RenderAov> parse_render_aovs(const std::string& list);
+std::string format_render_aovs(RenderAov aovs);
 
-struct RenderSettings {
+struct RenderOptions {
     int spp = 64;                   // cap on aperture samples per pixel
     int min_spp = 4;                // samples every pixel gets before the adaptive test
     // Adaptive stop: a pixel stops once the standard error of its mean
@@ -106,7 +114,7 @@ struct RenderSettings {
     bool pixel_jitter = true;       // samples spread over the pixel (false: all at its centre)
     std::uint64_t seed = 0;
     int tile_size = 16;
-    unsigned aovs = kAovAll;        // which AOVs beside the beauty (deep output: Z always)
+    RenderAov aovs = RenderAov::All;  // which AOVs beside the beauty (deep output: Z always)
     // Replaces the scene camera's lens information (f-number, focus
     // distance, ...) for this render: the thin lens used without a blur field,
     // and the lens written in the metadata. What a focus/aperture stack
@@ -142,10 +150,10 @@ struct RenderStats {
 // P = N = NaN where none did). The camera attributes (Camera::to_metadata)
 // are in its metadata. A pixel whose blur field cannot be sampled (e.g. a
 // NaN from an image_map) is an error naming the pixel.
-Result<Image> render(const Scene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
+Result<Image> render(const Scene& scene, const RenderOptions& settings, RenderStats* stats = nullptr,
                      const Exec& exec = {});
 // The same with a tracer already built for `scene`.
-Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats = nullptr,
+Result<Image> render(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
                      const Exec& exec = {});
 
 // The same samples as a deep image (for method 3): each pixel's samples that
@@ -157,7 +165,7 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
 // render's R, G, B, A. A non-black environment adds a sample at Z = +inf.
 // Channels: R, G, B, A, Z, ZBack, then the AOVs (albedo, P, N: the
 // surface's mean; id: the surface's object).
-Result<DeepImage> render_deep(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats = nullptr,
+Result<DeepImage> render_deep(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
                               const Exec& exec = {});
 
 // Raw ray throughput of the tracer on this scene, for comparison in --stats:

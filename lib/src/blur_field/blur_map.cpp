@@ -48,7 +48,7 @@ Status for_rows(const Exec& exec, int height, const std::function<Status(long)>&
         }
     });
     if (failed) return first;
-    if (!finished) return Status::error("cancelled");
+    if (!finished) return Status::cancelled();
     return Status::ok();
 }
 
@@ -85,8 +85,10 @@ Result<std::optional<std::array<int, 3>>> find_position_channels(const Image& im
 Result<int> find_depth_channel(const Image& img, const std::string& name) {
     if (!name.empty()) {
         int c = img.channel_index(name);
-        if (c < 0) return Status::error("depth channel '" + name + "' not found");
-        if (img.channel(c).type == PixelType::UInt) return Status::error("depth channel '" + name + "' is not a float channel");
+        if (c < 0) return Status::error("depth channel '" + name + "' not found", StatusCode::NotFound, "depth_channel");
+        if (img.channel(c).type == PixelType::UInt)
+            return Status::error("depth channel '" + name + "' is not a float channel", StatusCode::InvalidArgument,
+                                 "depth_channel");
         return c;
     }
     for (const char* n : {"Z", "depth.Z", "Depth.Z", "depth", "Depth"}) {

@@ -20,7 +20,8 @@ Result<Camera> resolve_camera(const Metadata& metadata, const Roi& display_windo
     if (md.has("worldToCamera") || md.has("worldToNDC")) return Camera::from_metadata(md, display_window, opts);
     if (!ov.focal_length_mm)
         return Status::error("no camera: no worldToCamera / worldToNDC attributes (give a focal length for a "
-                             "camera at the origin looking down +z)");
+                             "camera at the origin looking down +z)",
+                             StatusCode::NotFound, "focal_length_mm");
     CameraDesc d;
     d.focal_length_mm = *ov.focal_length_mm;
     if (ov.sensor_width_mm) d.sensor_width_mm = *ov.sensor_width_mm;

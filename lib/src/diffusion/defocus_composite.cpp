@@ -26,7 +26,7 @@ Status composite_over(Image& dst, const std::array<const float*, 4>& src, const 
             }
         }
     }, 8);
-    if (!done) return Status::error("defocus cancelled");
+    if (!done) return Status::cancelled("defocus");
     return Status::ok();
 }
 

@@ -26,9 +26,9 @@ double solver_max_radius(const std::vector<float>& radius_map) {
 
 }  // namespace
 
-DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double layer_max_radius,
+DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
                                         const std::vector<float>& radius_map) {
-    DiffusionSettings s = base;
+    DiffusionOptions s = base;
     const double r_layer = radius_from_diffusivity(float(diffusivity_from_radius(layer_max_radius)));
     // Auto is decided by the whole layer's largest radius, so every tile of a
     // layer runs the same solver.
@@ -54,7 +54,7 @@ DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double la
 }
 
 Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionSettings& settings, const Exec& exec, DiffusedLayer& out,
+                     const Roi& extrapolation, const DiffusionOptions& settings, const Exec& exec, DiffusedLayer& out,
                      DefocusStats& stats) {
     const Image& img = layer.image;
     const Roi win = img.data_window();
@@ -109,7 +109,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     }
 
     t0 = std::chrono::steady_clock::now();
-    const DiffusionSettings s = layer_solver_settings(settings, analysis.max_radius, radius);
+    const DiffusionOptions s = layer_solver_settings(settings, analysis.max_radius, radius);
     ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
     std::array<float*, 4> planes{out.rgba[0].data(), out.rgba[1].data(), out.rgba[2].data(), out.rgba[3].data()};
     Status st = diffuse_planes(planes, W, H, radius.data(), s, exec);

@@ -79,7 +79,7 @@ void carry_channel(const Image& src, int c, Image& dst) {
 }  // namespace
 
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
-                         const DefocusSettings& settings, DefocusStats* stats, const Exec& exec) {
+                         const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (input.empty()) return Status::error("defocus: the input has no image parts");
 
     // Which kind of input.
@@ -146,7 +146,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
             // Deep renders keep only visible samples: extend each layer behind
             // the nearer layers that fully hide it, as far as the largest blur
             // can reveal (not into genuinely empty, transparent areas).
-            ExtendBehind ext;
+            ExtendOptions ext;
             ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
             ext.occluder_alpha = 0.999f;
             if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
@@ -164,7 +164,8 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
         if (*z < 0)
             return Status::error("defocus: the input has no depth channel '" +
                                  (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
-                                 "' (channels: " + channel_list(*flat) + ")");
+                                 "' (channels: " + channel_list(*flat) + ")",
+                                 StatusCode::NotFound, "depth_channel");
         SliceOptions so;
         so.split = settings.split;
         so.source = settings.source;

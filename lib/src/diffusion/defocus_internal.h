@@ -26,7 +26,7 @@ struct LayerAnalysis {
 // the checks on it: non-finite radii at covered pixels and radii above
 // settings.max_radius are errors naming the layer, the pixel and the value.
 Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
-                                    const DiffusionSettings& settings, const Exec& exec);
+                                    const DiffusionOptions& settings, const Exec& exec);
 
 // Weight of a layer pixel as a known radius for the extrapolation (0: unknown).
 float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t pixel);
@@ -44,7 +44,7 @@ struct DiffusedLayer {
 // count (explicit) follows the layer's largest radius over the *whole* layer,
 // not over the (possibly cropped) radius map, so a sub-region render runs the
 // same operator as the full render.
-DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double layer_max_radius,
+DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
                                         const std::vector<float>& radius_map);
 
 // Extrapolates the layer's radii over `extrapolation` (push-pull beyond the
@@ -53,7 +53,7 @@ DiffusionSettings layer_solver_settings(const DiffusionSettings& base, double la
 // copies the layer's RGBA into zero-padded planes over `work` and diffuses
 // them. Times go to stats.t_extrapolate / t_diffuse.
 Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionSettings& settings, const Exec& exec, DiffusedLayer& out,
+                     const Roi& extrapolation, const DiffusionOptions& settings, const Exec& exec, DiffusedLayer& out,
                      DefocusStats& stats);
 
 // dst (float R, G, B, A at channels 0..3) = src over dst, where src is four

@@ -37,7 +37,7 @@ float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t i) {
 }
 
 Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
-                                    const DiffusionSettings& settings, const Exec& exec) {
+                                    const DiffusionOptions& settings, const Exec& exec) {
     const Image& img = layer.image;
     const std::string where = layer_label(layer, index);
     LayerAnalysis a;

@@ -30,8 +30,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Status validate(const DefocusSettings& s) {
-    const DiffusionSettings& d = s.diffusion;
+Status validate(const DefocusOptions& s) {
+    const DiffusionOptions& d = s.diffusion;
     if (!(d.max_radius > 0.0) || !std::isfinite(d.max_radius) || d.max_radius > 1.0e6)
         return Status::error("defocus: max_radius must be a finite number in (0, 1e6], got " + std::to_string(d.max_radius));
     if (d.adi_steps < 0 || d.adi_steps > 1000)
@@ -58,7 +58,7 @@ constexpr double kAnalysisShare = 0.1;  // of the progress bar
 }  // namespace
 
 Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
-                             const DefocusSettings& settings, DefocusStats* stats, const Exec& exec) {
+                             const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (Status st = validate(settings); !st) return st;
     DefocusStats local;
     DefocusStats& S = stats ? *stats : local;
@@ -71,7 +71,7 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
     Roi display, frame;
     double rmax = 0.0;
     for (int i = 0; i < nl; ++i) {
-        if (exec.is_cancelled()) return Status::error("defocus cancelled");
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
         const auto t0 = std::chrono::steady_clock::now();
         const Exec e = sub_exec(exec, kAnalysisShare * i / nl, kAnalysisShare * (i + 1) / nl);
         auto r = analyse_layer(layers[std::size_t(i)], i, field, camera, settings.diffusion, e);
@@ -110,7 +110,7 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
     double done = 0.0;
     auto progress_at = [&](double d) { return kAnalysisShare + (1.0 - kAnalysisShare) * (total > 0 ? d / total : 1.0); };
     for (int i = nl - 1; i >= 0; --i) {
-        if (exec.is_cancelled()) return Status::error("defocus cancelled");
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
         const Layer& layer = layers[std::size_t(i)];
         const LayerAnalysis& a = an[std::size_t(i)];
         const Roi lwin = layer.image.data_window();

@@ -53,13 +53,13 @@ void solve(int n, int lanes, const double* g, const double* cp, const double* in
 
 }  // namespace
 
-int adi_steps_for(double max_radius_px, const DiffusionSettings& settings) {
+int adi_steps_for(double max_radius_px, const DiffusionOptions& settings) {
     if (settings.adi_steps > 0) return settings.adi_steps;
     return std::clamp(int(std::ceil(8.0 * max_radius_px)), 4, 64);
 }
 
 Status diffuse_adi(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                   const DiffusionSettings& settings, const Exec& exec) {
+                   const DiffusionOptions& settings, const Exec& exec) {
     const int W = width, H = height, nc = int(planes.size());
     float dmax = 0.0f;
     for (std::size_t i = 0; i < std::size_t(W) * std::size_t(H); ++i) dmax = std::max(dmax, diffusivity[i]);
@@ -94,7 +94,7 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
                 }
             }
         });
-        if (!ok) return Status::error("diffusion cancelled");
+        if (!ok) return Status::cancelled("diffusion");
         // Columns: a block of adjacent columns solved together as lanes, so
         // every load is a contiguous run of a row.
         ok = parallel_for(exec, nblocks, [&](long b0, long b1) {
@@ -126,7 +126,7 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
                 }
             }
         });
-        if (!ok) return Status::error("diffusion cancelled");
+        if (!ok) return Status::cancelled("diffusion");
     }
     return Status::ok();
 }

@@ -20,7 +20,7 @@ constexpr float kDiag = 1.0f / 6.0f;
 }  // namespace
 
 Status diffuse_explicit(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                        const DiffusionSettings& settings, const Exec& exec) {
+                        const DiffusionOptions& settings, const Exec& exec) {
     const int W = width, H = height;
     const std::size_t n = std::size_t(W) * std::size_t(H);
     float dmax = 0.0f;
@@ -74,7 +74,7 @@ Status diffuse_explicit(std::span<float* const> planes, int width, int height, c
                     }
                 }
             }, 8);
-            if (!ok) return Status::error("diffusion cancelled");
+            if (!ok) return Status::cancelled("diffusion");
             std::copy(next.begin(), next.end(), plane);
         }
     }

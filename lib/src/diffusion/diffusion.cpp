@@ -25,21 +25,21 @@ Result<DiffusionSolver> parse_diffusion_solver(const char* name) {
     return Status::error("unknown diffusion solver '" + n + "' (expected 'auto', 'adi' or 'explicit')");
 }
 
-DiffusionSolver choose_solver(double max_radius_px, const DiffusionSettings& settings) {
+DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings) {
     if (settings.solver != DiffusionSolver::Auto) return settings.solver;
     const double explicit_cost = explicit_iterations(max_radius_px, settings);
     const double adi_cost = kAdiStepCost * adi_steps_for(max_radius_px, settings);
     return explicit_cost <= adi_cost ? DiffusionSolver::Explicit : DiffusionSolver::Adi;
 }
 
-int explicit_iterations(double max_radius_px, const DiffusionSettings& settings) {
+int explicit_iterations(double max_radius_px, const DiffusionOptions& settings) {
     // The 9-point stencil's weights sum to 10/3; stability needs dt * D * 10/3 <= 1.
     double d = diffusivity_from_radius(max_radius_px);
     return std::max(1, int(std::ceil(settings.explicit_safety * d * 10.0 / 3.0)));
 }
 
 Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
-                      const DiffusionSettings& settings, const Exec& exec) {
+                      const DiffusionOptions& settings, const Exec& exec) {
     if (width < 0 || height < 0) return Status::error("diffusion: negative image size");
     const std::size_t n = std::size_t(width) * std::size_t(height);
     if (n == 0 || planes.empty()) return Status::ok();

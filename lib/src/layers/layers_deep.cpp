@@ -259,7 +259,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
             }
         }
     });
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     return layers;
 }
 

@@ -138,10 +138,10 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
                 }
         }
     });
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     // Plates: the background is everywhere, so the farthest slice fills every
     // hidden pixel; nearer slices reach extend_px behind their neighbours.
-    ExtendBehind ext;
+    ExtendOptions ext;
     ext.extend_px = options.extend_px;
     ext.farthest_fills_frame = true;
     ext.occluder_alpha = 0.0f;

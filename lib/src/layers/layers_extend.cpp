@@ -33,7 +33,7 @@ void coverage(const Image& img, const Roi& frame, std::vector<float>& alpha, std
 
 }  // namespace
 
-Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const ExtendBehind& opt, const Exec& exec) {
+Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const ExtendOptions& opt, const Exec& exec) {
     if (!(opt.extend_px >= 0.0) || std::isinf(opt.extend_px))
         return Status::error("layer extension: extend_px must be finite and >= 0, got " + std::to_string(opt.extend_px));
     if (frame.empty() || layers.size() < 2) return Status::ok();
@@ -56,7 +56,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
     std::vector<float> alpha;
     std::vector<unsigned char> own;
     for (int s = 0; s < nl; ++s) {
-        if (exec.is_cancelled()) return Status::error("cancelled");
+        if (exec.is_cancelled()) return Status::cancelled();
         Layer& L = layers[std::size_t(s)];
         coverage(L.image, frame, alpha, own);
         const Roi own_box = intersect(L.image.data_window(), frame);

@@ -61,7 +61,7 @@ struct Sample {
 struct FlatLayout {
     int r = 0, g = 1, b = 2, a = 3;
     int albedo = -1, z = -1, p = -1, n = -1, id = -1;  // first of each group
-    static FlatLayout make(unsigned aovs, std::vector<ChannelSpec>& specs);
+    static FlatLayout make(RenderAov aovs, std::vector<ChannelSpec>& specs);
 };
 // Averages a pixel's samples into the flat image (beauty + AOVs).
 void write_flat_pixel(Image& img, const FlatLayout& l, std::size_t offset, const std::vector<Sample>& samples,
@@ -78,6 +78,6 @@ struct DeepSurface {
 void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_opaque,
                 std::vector<DeepSurface>& out);
 // Assembles the deep image from every pixel's surfaces (row-major over window).
-DeepImage make_deep_image(const Roi& window, unsigned aovs, std::vector<std::vector<DeepSurface>>& pixels);
+DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels);
 
 }  // namespace gdof::rt

@@ -13,23 +13,26 @@ namespace {
 
 struct AovName {
     const char* name;
-    unsigned bit;
+    RenderAov flag;
 };
-constexpr AovName kAovNames[] = {
-    {"albedo", kAovAlbedo}, {"Z", kAovDepth}, {"P", kAovPosition}, {"N", kAovNormal}, {"id", kAovId}};
+constexpr AovName kAovNames[] = {{"albedo", RenderAov::Albedo},
+                                 {"Z", RenderAov::Depth},
+                                 {"P", RenderAov::Position},
+                                 {"N", RenderAov::Normal},
+                                 {"id", RenderAov::Id}};
 
 }  // namespace
 
-Result<unsigned> parse_render_aovs(const std::string& list) {
-    if (list == "all") return unsigned(kAovAll);
-    if (list == "none") return 0u;
-    unsigned aovs = 0;
+Result<RenderAov> parse_render_aovs(const std::string& list) {
+    if (list == "all") return RenderAov::All;
+    if (list == "none") return RenderAov::None;
+    RenderAov aovs = RenderAov::None;
     std::stringstream ss(list);
     std::string item;
     while (std::getline(ss, item, ',')) {
         bool known = false;
         for (const AovName& a : kAovNames)
-            if (item == a.name) aovs |= a.bit, known = true;
+            if (item == a.name) aovs |= a.flag, known = true;
         if (!known)
             return Status::error("unknown AOV '" + item + "' (expected a comma-separated list of albedo, Z, P, N, id; or all, none)");
     }
@@ -37,29 +40,29 @@ Result<unsigned> parse_render_aovs(const std::string& list) {
     return aovs;
 }
 
-std::string format_render_aovs(unsigned aovs) {
+std::string format_render_aovs(RenderAov aovs) {
     std::string s;
     for (const AovName& a : kAovNames)
-        if (aovs & a.bit) s += (s.empty() ? "" : ",") + std::string(a.name);
+        if (has(aovs, a.flag)) s += (s.empty() ? "" : ",") + std::string(a.name);
     return s.empty() ? "none" : s;
 }
 
 namespace rt {
 
-FlatLayout FlatLayout::make(unsigned aovs, std::vector<ChannelSpec>& specs) {
+FlatLayout FlatLayout::make(RenderAov aovs, std::vector<ChannelSpec>& specs) {
     FlatLayout l;
     specs.clear();
     for (const char* n : {"R", "G", "B", "A"}) specs.push_back({n, PixelType::Float});
-    auto group = [&](unsigned bit, int& first, std::initializer_list<const char*> names) {
-        if (!(aovs & bit)) return;
+    auto group = [&](RenderAov flag, int& first, std::initializer_list<const char*> names) {
+        if (!has(aovs, flag)) return;
         first = int(specs.size());
         for (const char* n : names) specs.push_back({n, PixelType::Float});
     };
-    group(kAovAlbedo, l.albedo, {"albedo.R", "albedo.G", "albedo.B"});
-    group(kAovDepth, l.z, {"Z"});
-    group(kAovPosition, l.p, {"P.x", "P.y", "P.z"});
-    group(kAovNormal, l.n, {"N.x", "N.y", "N.z"});
-    if (aovs & kAovId) {
+    group(RenderAov::Albedo, l.albedo, {"albedo.R", "albedo.G", "albedo.B"});
+    group(RenderAov::Depth, l.z, {"Z"});
+    group(RenderAov::Position, l.p, {"P.x", "P.y", "P.z"});
+    group(RenderAov::Normal, l.n, {"N.x", "N.y", "N.z"});
+    if (has(aovs, RenderAov::Id)) {
         l.id = int(specs.size());
         specs.push_back({"id", PixelType::UInt});
     }
@@ -152,9 +155,9 @@ void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_
     }
 }
 
-DeepImage make_deep_image(const Roi& window, unsigned aovs, std::vector<std::vector<DeepSurface>>& pixels) {
+DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels) {
     std::vector<ChannelSpec> specs;
-    FlatLayout l = FlatLayout::make(aovs & ~unsigned(kAovDepth), specs);
+    FlatLayout l = FlatLayout::make(aovs & ~RenderAov::Depth, specs);
     // Z and ZBack right after A (Z is always written in deep output).
     specs.insert(specs.begin() + 4, {{"Z", PixelType::Float}, {"ZBack", PixelType::Float}});
     for (int* c : {&l.albedo, &l.p, &l.n, &l.id})

@@ -27,7 +27,7 @@ struct Setup {
     std::string label;
 };
 
-Result<Setup> make_setup(const Scene& scene, const Camera& camera, const RenderSettings& s) {
+Result<Setup> make_setup(const Scene& scene, const Camera& camera, const RenderOptions& s) {
     Setup st;
     if (s.pinhole) {
         st.label = "pinhole";
@@ -99,7 +99,7 @@ struct LuminanceStats {
 };
 
 // Renders into a flat image or (deep != nullptr) per-pixel deep surfaces.
-Status render_impl(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats, const Exec& exec,
+Status render_impl(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats, const Exec& exec,
                    Image* flat, DeepImage* deep) {
     const Scene& scene = tracer.scene();
     Camera cam = scene.camera;
@@ -109,7 +109,7 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
     if (settings.tile_size < 1) return Status::error("tile_size: must be >= 1");
     if (!(settings.adaptive_threshold >= 0)) return Status::error("adaptive_threshold: must be >= 0");
     if (!(settings.polyline_tolerance_px > 0)) return Status::error("polyline_tolerance_px: must be > 0");
-    if (settings.aovs & ~unsigned(kAovAll)) return Status::error("aovs: unknown AOV bits");
+    if ((unsigned(settings.aovs) & ~unsigned(RenderAov::All)) != 0) return Status::error("aovs: unknown AOV bits");
     auto setup_r = make_setup(scene, cam, settings);
     if (!setup_r) return setup_r.status();
     const Setup& setup = setup_r.value();
@@ -125,7 +125,7 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
         flat->metadata.set_string("gdof:renderCamera", setup.label);
     }
     std::vector<std::vector<rt::DeepSurface>> deep_pixels(deep ? disp.npixels() : 0);
-    const bool want_id = (settings.aovs & kAovId) != 0;
+    const bool want_id = has(settings.aovs, RenderAov::Id);
     // Unjittered pinhole: sample 0 is the central ray, its hit gives the id.
     const bool sample0_central = setup.mode == Mode::Pinhole && !(settings.pixel_jitter && settings.spp > 1);
 
@@ -274,7 +274,7 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
     };
     const bool done = parallel_for(exec, ntiles, body, 1);
     if (failed) return Status::error(error);
-    if (!done) return Status::error("render cancelled");
+    if (!done) return Status::cancelled("render");
     if (stats) {
         stats->primary_rays = a_primary;
         stats->segments = a_segments;
@@ -294,13 +294,13 @@ Status render_impl(const RayTracer& tracer, const RenderSettings& settings, Rend
 
 }  // namespace
 
-Result<Image> render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Exec& exec) {
+Result<Image> render(const Scene& scene, const RenderOptions& settings, RenderStats* stats, const Exec& exec) {
     auto rt = RayTracer::build(scene);
     if (!rt) return rt.status();
     return render(*rt.value(), settings, stats, exec);
 }
 
-Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats,
+Result<Image> render(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats,
                      const Exec& exec) {
     Image img;
     Status st = render_impl(tracer, settings, stats, exec, &img, nullptr);
@@ -308,7 +308,7 @@ Result<Image> render(const RayTracer& tracer, const RenderSettings& settings, Re
     return img;
 }
 
-Result<DeepImage> render_deep(const RayTracer& tracer, const RenderSettings& settings, RenderStats* stats,
+Result<DeepImage> render_deep(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats,
                               const Exec& exec) {
     DeepImage deep;
     Status st = render_impl(tracer, settings, stats, exec, nullptr, &deep);

@@ -58,11 +58,11 @@ std::vector<double> focus_range(const json& j) {
 
 }  // namespace
 
-Result<RenderStackSpec> parse_render_stack_spec(const std::string& text, const std::string& where) {
+Result<RenderStackOptions> parse_render_stack_options(const std::string& text, const std::string& where) {
     try {
         const json j = json::parse(text);
         allow_only(j, "top level", {"coc_px", "focus_distances", "focus_range", "f_numbers", "references", "comment"});
-        RenderStackSpec spec;
+        RenderStackOptions spec;
         if (j.contains("coc_px")) spec.coc_px = positive(j["coc_px"], "coc_px");
         if (j.contains("focus_distances") && j.contains("focus_range"))
             fail("focus_range", "give focus_distances or focus_range, not both");
@@ -104,7 +104,7 @@ Result<RenderStackSpec> parse_render_stack_spec(const std::string& text, const s
     }
 }
 
-Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackSpec& spec) {
+Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackOptions& spec) {
     const LensInfo& lens = camera.lens();
     if (!std::isfinite(lens.focal_length_mm) || !std::isfinite(lens.sensor_width_mm))
         return Status::error("the camera needs focal_length_mm and sensor_width_mm for a focus/aperture stack");
@@ -116,7 +116,7 @@ Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackSpec
     stack.width = camera.display_window().width();
     stack.height = camera.display_window().height();
     for (std::size_t i = 0; i < spec.references.size(); ++i) {
-        const RenderStackSpec::Reference& r = spec.references[i];
+        const RenderStackOptions::Reference& r = spec.references[i];
         ThinLens tl;
         tl.focal_length_mm = lens.focal_length_mm;
         tl.sensor_width_mm = lens.sensor_width_mm;
@@ -136,14 +136,14 @@ Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackSpec
     return stack;
 }
 
-Status render_stack(const RayTracer& tracer, const FocalStack& plan, const RenderSettings& settings,
+Status render_stack(const RayTracer& tracer, const FocalStack& plan, const RenderOptions& settings,
                     const StackSink& sink, RenderStats* stats, const Exec& exec) {
     if (settings.blur_field || settings.pinhole)
         return Status::error("a focus/aperture stack renders each reference's thin lens: no blur field, no pinhole");
     const std::size_t n = plan.references.size();
     RenderStats total;
     for (std::size_t i = 0; i < n; ++i) {
-        RenderSettings rs = settings;
+        RenderOptions rs = settings;
         LensInfo lens = tracer.scene().camera.lens();
         lens.f_number = plan.references[i].f_number;
         lens.focus_distance = plan.references[i].focus_distance;

@@ -140,7 +140,7 @@ std::vector<int> StackSelection::used_references() const {
 }
 
 Result<StackSelection> select_references(const StackIndex& index, const DesiredFocus& desired,
-                                         const CompositeSettings& settings, const Exec& exec) {
+                                         const CompositeOptions& settings, const Exec& exec) {
     if (index.size() == 0) return Status::error("the stack has no references");
     if (settings.soft_k < 1 || settings.soft_k > 16)
         return Status::error("soft: K must be 1 to 16, got " + std::to_string(settings.soft_k));
@@ -216,7 +216,7 @@ Result<StackSelection> select_references(const StackIndex& index, const DesiredF
                 }
         }
     });
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     s.used.assign(std::size_t(index.size()), 0);
     for (const auto& u : used)
         for (std::size_t i = 0; i < u.size(); ++i)

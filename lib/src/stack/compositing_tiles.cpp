@@ -41,7 +41,7 @@ Status MemoryStackPixels::read_tile(int ref, const Roi& tile, float* rgba) {
     return Status::ok();
 }
 
-Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, const CompositeSettings& settings,
+Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, const CompositeOptions& settings,
                               int origin_x, int origin_y, CompositeStats* stats, const Exec& exec) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
@@ -121,7 +121,7 @@ Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, co
             exec.report(double(d) / double(ntiles));
         }
     });
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     for (const Status& e : errors)
         if (!e) return e;
 

@@ -75,7 +75,7 @@ DepthInterval choose_interval(const InFocusIntervals& iv, double z) {
 }
 
 Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camera& camera, const Image& img,
-                                             const BlurFocusSettings& settings, const Exec& exec) {
+                                             const BlurFocusOptions& settings, const Exec& exec) {
     if (img.data_window().empty()) return Status::error("the depth/position image has an empty data window");
     if (!(settings.coc_px >= 0)) return Status::error("coc_px must be >= 0");
     auto zr = pixel_depths(img, camera, settings.source);
@@ -127,7 +127,7 @@ Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camer
                 grid[std::size_t(j) * gx.size() + i] = std::move(iv).value();
             }
     });
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     for (const Status& e : errors)
         if (!e) return e;
 
@@ -157,7 +157,7 @@ Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camer
             }
         }
     }, 8);
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     return d;
 }
 

@@ -233,7 +233,7 @@ Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, in
             }
         }
     }, 16);
-    if (!ok) return Status::error("cancelled");
+    if (!ok) return Status::cancelled();
     return d;
 }
 

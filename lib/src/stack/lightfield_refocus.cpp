@@ -93,7 +93,7 @@ void add_horizontal(float* acc, const float* row, long w, const Taps& tx) {
 
 }  // namespace
 
-Result<Image> refocus(const LightField& lf, const RefocusSettings& s, const Exec& exec) {
+Result<Image> refocus(const LightField& lf, const RefocusOptions& s, const Exec& exec) {
     if (auto st = lf.validate(); !st) return st;
     if (!std::isfinite(s.focus_disparity))
         return Status::error("refocus: focus_disparity must be finite, got " + std::to_string(s.focus_disparity));
@@ -165,7 +165,7 @@ Result<Image> refocus(const LightField& lf, const RefocusSettings& s, const Exec
             exec.report(double(rows_done += (y1 - y0)) / double(h));
         },
         8);
-    if (!ok) return Status::error("refocus: cancelled");
+    if (!ok) return Status::error("refocus: cancelled", StatusCode::Cancelled);
     return out;
 }
 

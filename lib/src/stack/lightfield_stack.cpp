@@ -22,7 +22,7 @@ std::string num(double v) {
 
 }  // namespace
 
-Result<FocalStack> plan_stack(const LightField& lf, const StackSpec& spec) {
+Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& spec) {
     if (auto st = lf.validate(); !st) return st;
     if (!(spec.coc_px > 0) || !std::isfinite(spec.coc_px))
         return Status::error("coc_px: must be a positive number of pixels, got " + num(spec.coc_px));
@@ -74,7 +74,7 @@ Result<FocalStack> plan_stack(const LightField& lf, const StackSpec& spec) {
     return stack;
 }
 
-Result<ExtractedStack> extract_stack(const LightField& lf, const StackSpec& spec, const Exec& exec,
+Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const Exec& exec,
                                      const StackSink& sink) {
     auto planned = plan_stack(lf, spec);
     if (!planned) return planned.status();
@@ -88,11 +88,11 @@ Result<ExtractedStack> extract_stack(const LightField& lf, const StackSpec& spec
         total += weight[i] = lf.aperture_views(out.stack.references[i].aperture_radius_views);
     double done = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        if (exec.is_cancelled()) return Status::error("light-field stack: cancelled");
+        if (exec.is_cancelled()) return Status::error("light-field stack: cancelled", StatusCode::Cancelled);
         Exec sub = exec;
         if (exec.progress)
             sub.progress = [&, i](double f) { exec.report((done + f * weight[i]) / total); };
-        RefocusSettings rs;
+        RefocusOptions rs;
         rs.focus_disparity = out.stack.references[i].focus_disparity;
         rs.aperture_radius = out.stack.references[i].aperture_radius_views;
         rs.filter = spec.filter;

@@ -20,8 +20,8 @@ double gaussian2d(double x, double y, double sigma, double total) {
     return total / (2.0 * M_PI * sigma * sigma) * std::exp(-(x * x + y * y) / (2.0 * sigma * sigma));
 }
 
-DefocusSettings with_solver(DiffusionSolver s) {
-    DefocusSettings d;
+DefocusOptions with_solver(DiffusionSolver s) {
+    DefocusOptions d;
     d.diffusion.solver = s;
     return d;
 }
@@ -221,7 +221,7 @@ TEST(defocus, ForegroundSpreadsBeyondItsSilhouette_Figure7) {
 
     // Composited over the background: the rim mixes red and blue, the interior
     // is red, the far background is exactly the background.
-    auto out = defocus_layers({fg, bg}, *field, cam, DefocusSettings{});
+    auto out = defocus_layers({fg, bg}, *field, cam, DefocusOptions{});
     ASSERT_TRUE(out) << out.message();
     EXPECT_EQ(out->data_window(), display);
     for (int y = 0; y < display.y1; ++y)
@@ -251,14 +251,14 @@ TEST(defocus, LayerWindowsAnywhereAndOutputWindow) {
     const Roi window{-30, -20, 20, 10};
     Layer l = make_layer(window, display, [](int, int) { return Rgba{0.5f, 0.5f, 0.5f, 1.0f}; });
     const double R = 4;
-    auto out = defocus_layers({l}, constant_field(display, R), test_camera(display), DefocusSettings{});
+    auto out = defocus_layers({l}, constant_field(display, R), test_camera(display), DefocusOptions{});
     ASSERT_TRUE(out) << out.message();
     const int m = defocus_margin(R);
     // Spreads into the display window, not past the frame (display ∪ data window).
     EXPECT_EQ(out->data_window(), intersect(window.grown(m), unite(display, window)));
     EXPECT_EQ(out->display_window(), display);
     // An empty list gives an empty result.
-    auto none = defocus_layers({}, constant_field(display, R), test_camera(display), DefocusSettings{});
+    auto none = defocus_layers({}, constant_field(display, R), test_camera(display), DefocusOptions{});
     ASSERT_TRUE(none) << none.message();
     EXPECT_TRUE(none->data_window().empty());
 }
@@ -278,7 +278,7 @@ TEST(defocus, BadInputsAreClearErrors) {
     auto region = BlurField::parse(R"({"blurfield": {"kind": "region", "shape": "sphere", "center": [0, 0, 5],
         "radius": 1, "blur": 3}})");
     ASSERT_TRUE(region) << region.message();
-    Result<Image> r = defocus_layers({ok, pnan}, *region, cam, DefocusSettings{});
+    Result<Image> r = defocus_layers({ok, pnan}, *region, cam, DefocusOptions{});
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("layer 1"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("(11, 12)"), std::string::npos) << r.message();
@@ -291,14 +291,14 @@ TEST(defocus, BadInputsAreClearErrors) {
     behind.image.at(7, 7, 9) = -1.0f;
     auto tl = BlurField::from_thin_lens(ThinLens{});
     ASSERT_TRUE(tl);
-    r = defocus_layers({behind}, *tl, cam, DefocusSettings{});
+    r = defocus_layers({behind}, *tl, cam, DefocusOptions{});
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("layer 0 'fg'"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("(7, 9)"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("inf"), std::string::npos) << r.message();
 
     // An absurd radius: names the value and max_radius.
-    DefocusSettings s;
+    DefocusOptions s;
     s.diffusion.max_radius = 10;
     r = defocus_layers({ok}, constant_field(display, 25.0), cam, s);
     ASSERT_FALSE(r);
@@ -308,7 +308,7 @@ TEST(defocus, BadInputsAreClearErrors) {
     // Colour must be finite.
     Layer inf_c = ok;
     inf_c.image.at(1, 3, 2) = std::numeric_limits<float>::infinity();
-    r = defocus_layers({inf_c}, constant_field(display, 2.0), cam, DefocusSettings{});
+    r = defocus_layers({inf_c}, constant_field(display, 2.0), cam, DefocusOptions{});
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("'G'"), std::string::npos) << r.message();
     EXPECT_NE(r.message().find("(3, 2)"), std::string::npos) << r.message();
@@ -316,7 +316,7 @@ TEST(defocus, BadInputsAreClearErrors) {
     // No alpha channel.
     Layer no_a;
     no_a.image = Image::with_channels({"R", "G", "B", "Z"}, display);
-    r = defocus_layers({no_a}, constant_field(display, 2.0), cam, DefocusSettings{});
+    r = defocus_layers({no_a}, constant_field(display, 2.0), cam, DefocusOptions{});
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("'A'"), std::string::npos) << r.message();
 
@@ -324,16 +324,16 @@ TEST(defocus, BadInputsAreClearErrors) {
     Layer no_z;
     no_z.image = Image::with_channels({"R", "G", "B", "A"}, display);
     no_z.image.at(3, 1, 1) = 1.0f;
-    r = defocus_layers({no_z}, constant_field(display, 2.0), cam, DefocusSettings{});
+    r = defocus_layers({no_z}, constant_field(display, 2.0), cam, DefocusOptions{});
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("depth"), std::string::npos) << r.message();
 
     // Absurd settings.
-    for (auto bad : {std::function<void(DefocusSettings&)>([](DefocusSettings& d) { d.diffusion.adi_steps = -1; }),
-                     std::function<void(DefocusSettings&)>([](DefocusSettings& d) { d.diffusion.max_radius = -1; }),
-                     std::function<void(DefocusSettings&)>([](DefocusSettings& d) { d.diffusion.explicit_safety = 0.5; }),
-                     std::function<void(DefocusSettings&)>([](DefocusSettings& d) { d.roi = Roi{10, 10, 5, 20}; })}) {
-        DefocusSettings d;
+    for (auto bad : {std::function<void(DefocusOptions&)>([](DefocusOptions& d) { d.diffusion.adi_steps = -1; }),
+                     std::function<void(DefocusOptions&)>([](DefocusOptions& d) { d.diffusion.max_radius = -1; }),
+                     std::function<void(DefocusOptions&)>([](DefocusOptions& d) { d.diffusion.explicit_safety = 0.5; }),
+                     std::function<void(DefocusOptions&)>([](DefocusOptions& d) { d.roi = Roi{10, 10, 5, 20}; })}) {
+        DefocusOptions d;
         bad(d);
         r = defocus_layers({ok}, constant_field(display, 2.0), cam, d);
         EXPECT_FALSE(r);

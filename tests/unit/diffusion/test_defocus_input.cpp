@@ -182,7 +182,7 @@ TEST(defocus_input, MultipartLayers) {
 
 TEST(defocus_input, SubRegionOfAWholeInput) {
     const Image in = flat_input();
-    DefocusSettings s;
+    DefocusOptions s;
     s.roi = Roi{20, 10, 50, 40};
     auto sub = defocus(one(in), near_blur(6.0), test_camera(kDisplay), s);
     auto full = defocus(one(in), near_blur(6.0), test_camera(kDisplay), {});
@@ -209,7 +209,7 @@ TEST(defocus_input, BadInputsAreClearErrors) {
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("no R, G, B"), std::string::npos) << r.message();
 
-    DefocusSettings s;
+    DefocusOptions s;
     s.source.depth_channel = "depth.V";
     r = defocus(one(flat_input()), BlurField(), cam, s);
     ASSERT_FALSE(r);

@@ -41,7 +41,7 @@ BlurField varying_field(double rmax) {
 
 Image render(const std::vector<Layer>& layers, const BlurField& field, DiffusionSolver solver, int threads = 0,
              const Roi& roi = {}) {
-    DefocusSettings s;
+    DefocusOptions s;
     s.diffusion.solver = solver;
     s.roi = roi;
     Exec e;
@@ -129,7 +129,7 @@ TEST(defocus_roi, SubRegionSkipsLayersThatCannotReachIt) {
     auto field = BlurField::parse(R"({"blurfield": {"kind": "region", "shape": "box", "mode": "blur", "blur": 5,
         "min": [-1000, -1000, 1], "max": [1000, 1000, 3]}})");
     ASSERT_TRUE(field) << field.message();
-    DefocusSettings s;
+    DefocusOptions s;
     s.roi = Roi{150, 100, 200, 150};
     DefocusStats st;
     auto r = defocus_layers({far_fg, bg}, *field, test_camera(kDisplay), s, &st);

@@ -28,7 +28,7 @@ std::array<std::vector<float>, 2> textured(int w, int h) {
     return p;
 }
 
-std::array<std::vector<float>, 2> diffused(int w, int h, float radius, DiffusionSettings s) {
+std::array<std::vector<float>, 2> diffused(int w, int h, float radius, DiffusionOptions s) {
     auto p = textured(w, h);
     std::vector<float> r(std::size_t(w) * h, radius);
     r[0] = 0.0f;  // a varying map: the choice follows its largest radius
@@ -40,7 +40,7 @@ std::array<std::vector<float>, 2> diffused(int w, int h, float radius, Diffusion
 }  // namespace
 
 TEST(diffusion_auto, CostModelPicksTheCheaperSolver) {
-    DiffusionSettings s;  // the default is Auto
+    DiffusionOptions s;  // the default is Auto
     ASSERT_EQ(s.solver, DiffusionSolver::Auto);
     for (double R : {0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 15.5, 15.7, 17.0, 18.0, 30.0, 200.0}) {
         const bool explicit_cheaper = explicit_iterations(R, s) <= kAdiStepCost * adi_steps_for(R, s);
@@ -63,7 +63,7 @@ TEST(diffusion_auto, CostModelPicksTheCheaperSolver) {
 
 TEST(diffusion_auto, RunsExactlyTheChosenSolver) {
     const int W = 61, H = 47;
-    DiffusionSettings a, e, i;
+    DiffusionOptions a, e, i;
     e.solver = DiffusionSolver::Explicit;
     i.solver = DiffusionSolver::Adi;
     // Small blur: explicit; large: ADI. The pair differs by more than rounding,
@@ -86,7 +86,7 @@ TEST(diffusion_auto, EachLayerChoosesByItsOwnBlur) {
     }, 8.0, "bg");
     const BlurField field = map_field(display, [](int x, int) { return x < 100 ? 3.0f : 30.0f; });
     auto render = [&](DiffusionSolver solver, DefocusStats* st) {
-        DefocusSettings s;
+        DefocusOptions s;
         s.diffusion.solver = solver;
         auto r = defocus_layers({fg, bg}, field, test_camera(display), s, st);
         EXPECT_TRUE(r) << r.message();

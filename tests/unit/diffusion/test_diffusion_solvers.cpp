@@ -35,7 +35,7 @@ double sum(const std::vector<float>& v) {
 }
 
 Status run(Planes& p, const std::vector<float>& radius, DiffusionSolver solver, int threads = 0) {
-    DiffusionSettings s;
+    DiffusionOptions s;
     s.solver = solver;
     Exec e;
     e.nthreads = threads;

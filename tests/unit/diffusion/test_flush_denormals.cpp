@@ -32,7 +32,7 @@ std::vector<float> diffuse_on_this_thread(DiffusionSolver solver) {
     const int W = 300, H = 40;
     std::vector<float> p = padded_square(W, H), r(p.size(), 12.0f);
     float* planes[1] = {p.data()};
-    DiffusionSettings s;
+    DiffusionOptions s;
     s.solver = solver;
     Exec one;
     one.nthreads = 1;  // runs on the calling thread

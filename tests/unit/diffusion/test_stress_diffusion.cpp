@@ -88,7 +88,7 @@ TEST(stress_diffusion, solvers_conserve_totals_and_obey_the_maximum_principle) {
     for (int iter = 0; iter < 60; ++iter) {
         const Size sz = random_size(rng, 48);
         const std::size_t n = std::size_t(sz.w) * std::size_t(sz.h);
-        DiffusionSettings ds;
+        DiffusionOptions ds;
         ds.solver = rng.chance(0.5) ? DiffusionSolver::Adi : DiffusionSolver::Explicit;
         const bool big = sz.w * sz.h > 3000;
         const double r_max =
@@ -144,7 +144,7 @@ TEST(stress_diffusion, invalid_radii_are_errors_naming_the_pixel) {
         std::vector<float> plane(n);
         for (float& v : plane) v = rng.pixel();
         const std::vector<float> orig = plane;
-        DiffusionSettings ds;
+        DiffusionOptions ds;
         ds.solver = rng.chance(0.5) ? DiffusionSolver::Adi : DiffusionSolver::Explicit;
         float* planes[1] = {plane.data()};
         const Status st = diffuse_planes(planes, sz.w, sz.h, radius.data(), ds);
@@ -172,7 +172,7 @@ TEST(stress_diffusion, opaque_constant_blur_layer_conserves_premultiplied_totals
         for (auto& c : colours) c = {rng.pixel(), rng.pixel(), rng.pixel(), 1.0f};
         auto colour = [&](int x, int y) { return colours[std::size_t(y - f.y0) * std::size_t(sz.w) + std::size_t(x - f.x0)]; };
         Layer layer = make_layer(f, f, colour, depth);
-        DefocusSettings s;
+        DefocusOptions s;
         s.diffusion.solver = R <= 8 && f.npixels() < 3000 && rng.chance(0.5) ? DiffusionSolver::Explicit : DiffusionSolver::Adi;
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << " at (" << f.x0 << ", " << f.y0 << "), R " << R
                                           << ", depth " << depth << ", solver " << to_string(s.diffusion.solver));
@@ -262,7 +262,7 @@ TEST(stress_diffusion, empty_layers_change_nothing) {
             with_empty.push_back(l);
         }
         const BlurField field = map_field(f, [](int x, int) { return float(x % 7); }, 2.0);
-        DefocusSettings s;
+        DefocusOptions s;
         s.diffusion.adi_steps = 4;  // speed: the property does not depend on the kernel's shape
         auto a = defocus_layers(real, field, test_camera(f), s);
         auto b = defocus_layers(with_empty, field, test_camera(f), s);
@@ -392,7 +392,7 @@ TEST(stress_diffusion, flat_plates_with_invalid_depths_and_sky) {
         set.parts.emplace_back(img);
         const std::string json = random_thin_lens_json(rng, rng.uniform(0.0, 200.0));
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << (with_p ? " with P" : "") << ", field " << json);
-        DefocusSettings s;
+        DefocusOptions s;
         s.diffusion.adi_steps = 4;  // speed: the property does not depend on the kernel's shape
         auto out = defocus(set, parse_field(json), cam, s);
         ASSERT_TRUE(out) << out.message();
@@ -543,7 +543,7 @@ TEST(stress_diffusion, deep_inputs_split_composite_and_refuse_bad_samples) {
 
         ImageSet set;
         set.parts.emplace_back(deep);
-        DefocusSettings s;
+        DefocusOptions s;
         s.split = split;
         s.diffusion.adi_steps = 4;
         const std::string json = random_thin_lens_json(rng, rng.uniform(0.0, 100.0));

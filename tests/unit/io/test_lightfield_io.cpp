@@ -180,7 +180,7 @@ TEST(lightfield, config_errors_name_the_key) {
 }
 
 TEST(lightfield, stack_spec_grid_and_references) {
-    auto s = io::parse_stack_spec(R"({
+    auto s = io::parse_extract_stack_options(R"({
         "coc_px": 0.5, "filter": "bilinear",
         "disparities": [0, 0.5], "depths": ["inf"], "apertures": [1, 2],
         "references": [{"disparity": 1.25, "aperture": 0}, {"depth": 3, "aperture": 1.5}] })");
@@ -199,7 +199,7 @@ TEST(lightfield, stack_spec_grid_and_references) {
     EXPECT_EQ(s->references[7].focus_depth, 3.0);
 
     auto expect_error = [](const std::string& json, const std::string& key) {
-        auto r = io::parse_stack_spec(json, "stack.json");
+        auto r = io::parse_extract_stack_options(json, "stack.json");
         ASSERT_FALSE(r) << json;
         EXPECT_NE(r.message().find(key), std::string::npos) << r.message();
     };

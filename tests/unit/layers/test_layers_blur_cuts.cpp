@@ -192,7 +192,7 @@ TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface)
         ImageSet input;
         if (deep) input.parts.emplace_back(pole_scene_deep());
         else input.parts.emplace_back(pole_scene());
-        DefocusSettings ds;
+        DefocusOptions ds;
         DefocusStats stats;
         if (!deep) {  // depth maps are cut by blur only when asked
             auto plain = defocus(input, field, cam, ds, &stats);

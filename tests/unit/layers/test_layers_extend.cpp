@@ -52,7 +52,7 @@ TEST(layers_extend, BackgroundContinuesBehindAnOpaqueForegroundOnly) {
     const Image& bg_before = (*layers)[1].image;
     EXPECT_FALSE(bg_before.data_window().contains(25, 25) && bg_before.at(3, 25, 25) > 0.0f);
 
-    ExtendBehind ext;
+    ExtendOptions ext;
     ext.extend_px = 8.0;
     ext.occluder_alpha = 0.999f;
     ASSERT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
@@ -94,7 +94,7 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     auto layers = layers_from_deep(d, split);
     ASSERT_TRUE(layers) << layers.message();
     ASSERT_EQ(layers->size(), 2u);
-    ExtendBehind ext;
+    ExtendOptions ext;
     ext.extend_px = 4.0;
     ext.occluder_alpha = 0.999f;
     ASSERT_TRUE(extend_layers_behind(*layers, win, ext));
@@ -102,5 +102,5 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     EXPECT_EQ(bg.data_window().x1, 14);  // pixels 10..13 are within 4 px of x = 9
     EXPECT_EQ(bg.at(3, 13, 4), 1.0f);
     EXPECT_NEAR(bg.at(0, 13, 4), 0.5f, 1e-6);
-    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendBehind{-1.0, false, 0.0f}));
+    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendOptions{-1.0, false, 0.0f}));
 }

@@ -49,7 +49,7 @@ TEST(raytrace_coc, edge_blur_matches_thin_lens_coc) {
     ScratchDir dir;
     for (double depth : {2.0, 8.0}) {
         const Scene scene = edge_scene(dir, depth);
-        RenderSettings rs;
+        RenderOptions rs;
         rs.spp = 256;
         rs.adaptive_threshold = 0;
         rs.pixel_jitter = false;
@@ -72,7 +72,7 @@ TEST(raytrace_coc, edge_blur_matches_thin_lens_coc) {
 TEST(raytrace_coc, focal_plane_is_as_sharp_as_pinhole) {
     ScratchDir dir;
     const Scene scene = edge_scene(dir, 4.0);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 64;
     rs.adaptive_threshold = 0;
     rs.pixel_jitter = false;

@@ -103,20 +103,20 @@ TEST(raytrace_outputs, two_focal_planes_are_as_sharp_as_thin_lenses_focused_on_e
     const Scene scene = three_planes(dir);
     auto field = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [3, 9], "max_blur": 8}})");
     ASSERT_TRUE(field) << field.message();
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 32;
     rs.adaptive_threshold = 0;
-    rs.aovs = 0;
+    rs.aovs = RenderAov::None;
     rs.blur_field = &field.value();
     RENDER_OR_SKIP(planes, scene, rs);
 
-    RenderSettings tl = rs;
+    RenderOptions tl = rs;
     tl.blur_field = nullptr;
     tl.lens = lens_at(scene, 3.0, 2.0);
     RENDER_OR_SKIP(at3, scene, tl);
     tl.lens = lens_at(scene, 9.0, 2.0);
     RENDER_OR_SKIP(at9, scene, tl);
-    RenderSettings ph = rs;
+    RenderOptions ph = rs;
     ph.pinhole = true;
     RENDER_OR_SKIP(pin, scene, ph);
 
@@ -153,11 +153,11 @@ TEST(raytrace_outputs, emissive_square_off_focus_images_as_a_coc_disc) {
         "sensor_width_mm": 36, "resolution": [64, 64], "f_number": 2, "focus_distance": 4},
         "meshes": [{"file": "sq.obj"}]})", dir.path().string());
     ASSERT_TRUE(scene) << scene.message();
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 1024;
     rs.adaptive_threshold = 0;
     rs.pixel_jitter = false;
-    rs.aovs = 0;
+    rs.aovs = RenderAov::None;
     RENDER_OR_SKIP(img, scene.value(), rs);
     // The image is the disc convolved with the square (side s = 1.5 px):
     // E[r^2] = R^2 / 2 + s^2 / 6.
@@ -186,7 +186,7 @@ TEST(raytrace_outputs, deep_render_flattens_to_the_flat_render) {
         if (!tracer && tracer.message().find("without Embree") != std::string::npos) GDOF_SKIP_OR_FAIL(tracer.message());
         ASSERT_TRUE(tracer) << tracer.message();
         for (bool pinhole : {true, false}) {
-            RenderSettings rs;
+            RenderOptions rs;
             rs.spp = 16;
             rs.pinhole = pinhole;
             rs.lens = lens_at(scene, 5.0, 2.8);
@@ -225,14 +225,14 @@ TEST(raytrace_outputs, deep_render_flattens_to_the_flat_render) {
 TEST(raytrace_outputs, aovs_select_channels) {
     ScratchDir dir;
     const Scene scene = three_planes(dir);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 2;
     rs.aovs = parse_render_aovs("Z,id").value();
     RENDER_OR_SKIP(img, scene, rs);
     std::vector<std::string> names;
     for (const ChannelSpec& c : img.channels()) names.push_back(c.name);
     EXPECT_EQ(names, (std::vector<std::string>{"R", "G", "B", "A", "Z", "id"}));
-    rs.aovs = 0;
+    rs.aovs = RenderAov::None;
     RENDER_OR_SKIP(bare, scene, rs);
     EXPECT_EQ(bare.nchannels(), 4);
     // The beauty does not depend on which AOVs are written.
@@ -246,7 +246,7 @@ TEST(raytrace_outputs, lens_override_is_the_scene_camera_with_that_lens) {
     ScratchDir dir;
     const Scene with_lens = three_planes(dir, R"(, "f_number": 2.8, "focus_distance": 5)");
     const Scene without = three_planes(dir);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 8;
     RENDER_OR_SKIP(a, with_lens, rs);
     rs.lens = lens_at(without, 5.0, 2.8);
@@ -262,7 +262,7 @@ TEST(raytrace_outputs, unsampleable_blur_field_is_an_error_not_a_pinhole) {
     auto field = BlurField::parse(R"({"blurfield": {"kind": "scale", "factor": 1e308, "child":
         {"kind": "thin_lens", "focal_length_mm": 50, "f_number": 2.8, "focus_distance": 5, "sensor_width_mm": 36}}})");
     ASSERT_TRUE(field) << field.message();
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 2;
     rs.blur_field = &field.value();
     auto img = render(scene, rs);

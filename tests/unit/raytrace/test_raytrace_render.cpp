@@ -48,7 +48,7 @@ double mean_channel(const Image& img, const char* name) {
 TEST(raytrace_render, pinhole_z_and_p_are_exact) {
     ScratchDir dir;
     const Scene scene = load(dir);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.pinhole = true;
     rs.spp = 1;
     rs.min_spp = 1;
@@ -89,7 +89,7 @@ TEST(raytrace_render, pinhole_z_and_p_are_exact) {
 TEST(raytrace_render, same_image_for_any_thread_count_and_tiling) {
     ScratchDir dir;
     const Scene scene = load(dir, R"(, "f_number": 1.4, "focus_distance": 3)", 48, 32);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 8;
     rs.min_spp = 2;
     Exec one;
@@ -105,7 +105,7 @@ TEST(raytrace_render, same_image_for_any_thread_count_and_tiling) {
 TEST(raytrace_render, zero_blur_field_equals_pinhole_bit_for_bit) {
     ScratchDir dir;
     const Scene scene = load(dir);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 4;
     rs.pinhole = true;
     RENDER_OR_SKIP(pin, scene, rs, nullptr, Exec{});
@@ -119,7 +119,7 @@ TEST(raytrace_render, zero_blur_field_equals_pinhole_bit_for_bit) {
 TEST(raytrace_render, straight_thin_lens_matches_polyline_thin_lens) {
     ScratchDir dir;
     const Scene scene = load(dir, R"(, "f_number": 1.0, "focus_distance": 3)", 48, 32);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 64;
     rs.adaptive_threshold = 0;
     RenderStats s1, s2;
@@ -139,7 +139,7 @@ TEST(raytrace_render, straight_thin_lens_matches_polyline_thin_lens) {
 TEST(raytrace_render, adaptive_sampling_saves_rays) {
     ScratchDir dir;
     const Scene scene = load(dir, "", 48, 32);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.pinhole = true;
     rs.spp = 64;
     rs.min_spp = 4;
@@ -158,7 +158,7 @@ TEST(raytrace_render, adaptive_sampling_saves_rays) {
 TEST(raytrace_render, bad_settings) {
     ScratchDir dir;
     const Scene scene = load(dir);
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 0;
     auto r = render(scene, rs);
     ASSERT_FALSE(r);

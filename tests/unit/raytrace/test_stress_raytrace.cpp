@@ -328,7 +328,7 @@ TEST(stress_raytrace, renders_at_extreme_sizes_and_blurs_are_finite) {
         }
         auto scene = parse_scene(json, dir.path().string());
         ASSERT_TRUE(scene) << scene.message();
-        RenderSettings rs;
+        RenderOptions rs;
         rs.spp = w * h <= 4 ? rng.integer(1, 1024) : rng.integer(1, 4);
         rs.min_spp = rng.integer(1, 8);  // may exceed spp
         rs.light_samples = rng.integer(1, 2);
@@ -384,7 +384,7 @@ TEST(stress_raytrace, non_finite_meshes_are_errors_and_huge_scenes_render) {
       "lights": [{"type": "point", "position": [0, 0, 1e5], "intensity": 1e6}]})";
     auto scene = parse_scene(json, dir.path().string());
     ASSERT_TRUE(scene) << scene.message();
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 4;
     RENDER_OR_SKIP(img, scene.value(), rs);
     EXPECT_EQ(check_render(img), "");
@@ -412,7 +412,7 @@ TEST(stress_raytrace, non_finite_material_colours_are_refused_or_harmless) {
                 EXPECT_TRUE(contains(scene.message(), "m.mtl") || contains(scene.message(), "m.obj")) << scene.message();
                 continue;
             }
-            RenderSettings rs;
+            RenderOptions rs;
             rs.spp = 2;
             RENDER_OR_SKIP(img, scene.value(), rs);
             EXPECT_EQ(check_render(img), "") << "material " << key << " " << v << " accepted and rendered";
@@ -441,7 +441,7 @@ TEST(stress_raytrace, huge_lights_are_refused_or_errors_naming_the_pixel) {
         ASSERT_FALSE(s) << intensity << " / " << env;
         EXPECT_TRUE(contains(s.message(), key) && contains(s.message(), "1e20")) << s.message();
     }
-    RenderSettings rs;
+    RenderOptions rs;
     rs.spp = 2;
     {
         auto s = scene_with("1e20", "1e-3", "1e20", "0");

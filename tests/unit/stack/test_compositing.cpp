@@ -63,7 +63,7 @@ DesiredFocus constant_desired(int W, int H, double n, double f) {
     return d;
 }
 
-Image run(const Stack& s, const DesiredFocus& d, const CompositeSettings& cs = {}, const Exec& exec = {},
+Image run(const Stack& s, const DesiredFocus& d, const CompositeOptions& cs = {}, const Exec& exec = {},
           MemoryStackPixels* px_out = nullptr) {
     auto sel = select_references(s.index, d, cs, exec);
     EXPECT_TRUE(sel) << sel.message();
@@ -97,7 +97,7 @@ TEST(compositing, desired_equal_to_a_reference_reproduces_it_exactly) {
             }
         }
         // Soft mode too: a deviation of 0 takes the reference alone.
-        CompositeSettings soft;
+        CompositeOptions soft;
         soft.soft_k = 3;
         expect_equals_ref(run(s, d, soft), s.images[r], {0, 0, W, H}, "soft, reference " + std::to_string(r));
     }
@@ -115,7 +115,7 @@ TEST(compositing, piecewise_constant_maps_give_each_region_its_reference) {
             d.far[d.offset(x, y)] = float(std::isinf(s.limits[std::size_t(r)].far) ? kInf : s.limits[std::size_t(r)].far - 0.02);
         }
     MemoryStackPixels px(s.ptrs());
-    CompositeSettings cs;
+    CompositeOptions cs;
     cs.aovs = true;
     const Image out = run(s, d, cs, {}, &px);
     expect_equals_ref(out, s.images[1], {0, 0, W / 3, H}, "left");
@@ -228,13 +228,13 @@ TEST(compositing, soft_k1_is_the_hard_pick_and_soft_blends) {
         d.near[i] = float(n);
         d.far[i] = float(n + U(rng));
     }
-    CompositeSettings hard, soft1;
+    CompositeOptions hard, soft1;
     soft1.soft_k = 1;
     const Image a = run(s, d, hard), b = run(s, d, soft1);
     expect_equals_ref(a, b, {0, 0, W, H}, "soft 1 vs hard");
 
     // K = 2 between references 0 [1, 1.5] and 1 [1.4, 2.2]: a convex blend.
-    CompositeSettings soft2;
+    CompositeOptions soft2;
     soft2.soft_k = 2;
     const DesiredFocus mid = constant_desired(W, H, 1.25, 1.85);
     auto sel = select_references(s.index, mid, soft2);
@@ -271,7 +271,7 @@ TEST(compositing, threads_and_tile_size_do_not_change_the_output) {
             d.far[d.offset(x, y)] = float(2.0 + 6.0 * y / H);
         }
     for (int k : {1, 3}) {
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.soft_k = k;
         cs.aovs = true;
         Exec one, all;
@@ -293,7 +293,7 @@ TEST(compositing, nan_desired_selects_nothing_and_reports_used_references) {
     const Stack s = make_stack(W, H);
     DesiredFocus d = constant_desired(W, H, s.limits[2].near, s.limits[2].far);
     d.near[5] = std::numeric_limits<float>::quiet_NaN();
-    CompositeSettings cs;
+    CompositeOptions cs;
     cs.aovs = true;
     auto sel = select_references(s.index, d, cs);
     ASSERT_TRUE(sel);
@@ -304,7 +304,7 @@ TEST(compositing, nan_desired_selects_nothing_and_reports_used_references) {
     EXPECT_EQ(out.at(3, 5, 0), 0.0f);
     EXPECT_EQ(out.at(0, 6, 0), s.images[2].at(0, 6, 0));
     // Settings errors.
-    CompositeSettings bad;
+    CompositeOptions bad;
     bad.soft_k = 0;
     EXPECT_FALSE(select_references(s.index, d, bad));
 }

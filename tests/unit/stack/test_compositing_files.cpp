@@ -82,7 +82,7 @@ TEST(compositing, files_only_selected_references_are_opened) {
     auto reader = io::StackReader::create(s);
     ASSERT_TRUE(reader) << reader.message();
     EXPECT_EQ(reader.value()->files_opened(), 0);
-    CompositeSettings cs;
+    CompositeOptions cs;
     cs.tile_size = 32;  // several tiles, some straddling the boundary
     CompositeStats st;
     auto out = composite_stack(sel.value(), *reader.value(), cs, 0, 0, &st);
@@ -199,7 +199,7 @@ TEST(compositing, files_small_cache_evicts_and_stays_exact) {
             d.near[d.offset(x, y)] = float(s.references[std::size_t(r)].near + 0.1);
             d.far[d.offset(x, y)] = float(s.references[std::size_t(r)].far + 0.05);
         }
-    CompositeSettings cs;
+    CompositeOptions cs;
     cs.soft_k = 3;
     auto sel = select_references(index_of(s), d, cs);
     ASSERT_TRUE(sel);

@@ -182,7 +182,7 @@ TEST(focus_surfaces, from_a_thin_lens_field_equals_its_dof_limits) {
     ASSERT_TRUE(field) << field.message();
     Image z = Image::with_channels({"Z"}, {0, 0, W, H});
     for (std::size_t i = 0; i < z.npixels(); ++i) z.plane(0)[i] = 1.0f + float(i % 7);
-    BlurFocusSettings bs;
+    BlurFocusOptions bs;
     bs.coc_px = 0.05;  // tiny image: a small CoC keeps a finite far
     auto d = desired_from_blur_field(field.value(), cam, z, bs);
     ASSERT_TRUE(d) << d.message();
@@ -202,7 +202,7 @@ TEST(focus_surfaces, two_focal_planes_choose_the_interval_at_the_pixel_depth) {
     Image z = Image::with_channels({"Z"}, {0, 0, W, H});
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) z.at(0, x, y) = x < 4 ? 2.0f : 11.0f;
-    BlurFocusSettings bs;
+    BlurFocusOptions bs;
     bs.coc_px = 0.5;
     auto d = desired_from_blur_field(field.value(), cam, z, bs);
     ASSERT_TRUE(d) << d.message();
@@ -234,7 +234,7 @@ TEST(focus_surfaces, region_field_on_a_grid_matches_per_pixel_search) {
     ASSERT_TRUE(field) << field.message();
     Image z = Image::with_channels({"Z"}, {0, 0, W, H});
     for (std::size_t i = 0; i < z.npixels(); ++i) z.plane(0)[i] = 4.0f;
-    BlurFocusSettings exact, coarse;
+    BlurFocusOptions exact, coarse;
     exact.coc_px = coarse.coc_px = 1.0;
     exact.grid_step = 1;
     coarse.grid_step = 4;

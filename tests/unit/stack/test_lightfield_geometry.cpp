@@ -79,7 +79,7 @@ TEST(lightfield, negative_focal_baseline_orders_the_grid_the_other_way) {
 
 TEST(lightfield, stack_plan_fills_near_far_and_light_field_fields) {
     const LightField lf = small_lf(geom(2.0, -0.5));
-    StackSpec spec;
+    ExtractStackOptions spec;
     spec.coc_px = 1.0;
     spec.references = {{0.5, std::nan(""), 2.0}, {std::nan(""), 4.0, 1.0}, {std::nan(""), kInf, 2.0}};
     auto st = plan_stack(lf, spec);
@@ -107,26 +107,26 @@ TEST(lightfield, stack_plan_fills_near_far_and_light_field_fields) {
 
 TEST(lightfield, stack_plan_rejects_duplicates_and_focus_beyond_infinity) {
     const LightField lf = small_lf(geom(2.0, -0.5));
-    StackSpec dup;
+    ExtractStackOptions dup;
     dup.references = {{0.0, std::nan(""), 1.0}, {std::nan(""), 4.0, 1.0}};  // depth 4 is disparity 0
     auto a = plan_stack(lf, dup);
     ASSERT_FALSE(a);
     EXPECT_NE(a.message().find("references[1]"), std::string::npos) << a.message();
     EXPECT_NE(a.message().find("duplicate"), std::string::npos) << a.message();
 
-    StackSpec beyond;
+    ExtractStackOptions beyond;
     beyond.references = {{-3.0, std::nan(""), 1.0}};
     auto b = plan_stack(lf, beyond);
     ASSERT_FALSE(b);
     EXPECT_NE(b.message().find("beyond infinity"), std::string::npos) << b.message();
 
-    StackSpec neg;
+    ExtractStackOptions neg;
     neg.references = {{0.0, std::nan(""), -1.0}};
     auto c = plan_stack(lf, neg);
     ASSERT_FALSE(c);
     EXPECT_NE(c.message().find("references[0].aperture"), std::string::npos) << c.message();
 
-    StackSpec coc;
+    ExtractStackOptions coc;
     coc.coc_px = 0;
     coc.references = {{0.0, std::nan(""), 1.0}};
     EXPECT_FALSE(plan_stack(lf, coc));
@@ -136,7 +136,7 @@ TEST(lightfield, extract_stack_refocuses_every_reference_in_order) {
     test::Plane near{1.0, Roi{6, 4, 18, 12}, test::smooth_texture(1.0)};
     test::Plane far{0.0, Roi{}, test::smooth_texture(2.0)};
     LightField lf = test::make_planes_lightfield(5, 5, 24, 16, {near, far});
-    StackSpec spec;
+    ExtractStackOptions spec;
     spec.references = {{0.0, std::nan(""), 2.0}, {1.0, std::nan(""), 2.0}, {0.5, std::nan(""), 0.0}};
     std::vector<double> progress;
     Exec exec;

@@ -108,8 +108,8 @@ TEST(lightfield, bicubic_beats_bilinear_on_sub_pixel_shifts) {
     Plane p{0.5, Roi{}, test::smooth_texture(3.0)};
     const LightField lf = test::make_planes_lightfield(5, 5, 96, 80, {p});
     const Roi in{12, 12, 84, 68};
-    RefocusSettings cubic{0.5, 2.0, LightFieldFilter::Bicubic};
-    RefocusSettings linear{0.5, 2.0, LightFieldFilter::Bilinear};
+    RefocusOptions cubic{0.5, 2.0, LightFieldFilter::Bicubic};
+    RefocusOptions linear{0.5, 2.0, LightFieldFilter::Bilinear};
     const double e_cubic = rms_vs_texture(refocus(lf, cubic).value(), p, in);
     const double e_linear = rms_vs_texture(refocus(lf, linear).value(), p, in);
     EXPECT_LT(e_cubic, 0.5 * e_linear) << "cubic " << e_cubic << ", linear " << e_linear;

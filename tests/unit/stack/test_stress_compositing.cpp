@@ -123,7 +123,7 @@ TEST(stress_compositing, hard_pick_copies_the_best_reference_bit_for_bit) {
         const int n = rng.chance(0.2) ? 1 : rng.integer(1, 40);
         const RandomStack s = random_stack(rng, sz, n);
         const DesiredFocus d = random_desired_focus(rng, sz, s.limits);
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.aovs = true;
         cs.tile_size = rng.pick(std::vector<int>{1, 8, 64, 1000});
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", " << n << " references, tile " << cs.tile_size);
@@ -166,7 +166,7 @@ TEST(stress_compositing, soft_blend_is_a_convex_combination_of_the_selected_refe
                 for (std::size_t i = 0; i < img.npixels(); ++i)
                     if (!std::isfinite(img.plane(c)[i])) img.plane(c)[i] = 0.5f;
         const DesiredFocus d = random_desired_focus(rng, sz, s.limits);
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.soft_k = rng.integer(2, 16);
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", " << n << " references, K " << cs.soft_k);
         auto sel = select_references(s.index, d, cs);
@@ -236,7 +236,7 @@ TEST(stress_compositing, a_stack_of_one_image_reproduces_it) {
         const Size sz = random_size(rng, 70);
         const RandomStack s = random_stack(rng, sz, 1);
         const DesiredFocus d = random_desired_focus(rng, sz, s.limits);
-        CompositeSettings cs;
+        CompositeOptions cs;
         cs.soft_k = rng.chance(0.5) ? 1 : rng.integer(2, 16);
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", limits [" << s.limits[0].near << ", "
                                           << s.limits[0].far << "], K " << cs.soft_k);
@@ -350,7 +350,7 @@ TEST(stress_compositing, desired_focus_from_blur_fields_at_the_extremes) {
                                   : R"({"blurfield": )" + lens + "}";
         auto field = BlurField::parse(json);
         ASSERT_TRUE(field) << field.message() << "\n" << json;
-        BlurFocusSettings bs;
+        BlurFocusOptions bs;
         bs.coc_px = rng.log_uniform(0.01, 100.0);
         bs.depth_min = rng.chance(0.5) ? 0.0 : 1e-4;
         bs.grid_step = rng.integer(0, 16);

@@ -72,7 +72,7 @@ TEST(stress_lightfield, a_light_field_of_one_view_refocuses_to_the_view) {
         const LightField lf = make_lightfield(1, 1, sz, rng.integer(1, 4), [&](int, int, std::size_t) {
             return rng.chance(0.01) ? float(kStressNaN) : rng.pixel();
         });
-        RefocusSettings rs;
+        RefocusOptions rs;
         rs.focus_disparity = random_disparity(rng);
         rs.aperture_radius = random_aperture(rng);
         rs.filter = rng.chance(0.5) ? LightFieldFilter::Bicubic : LightFieldFilter::Bilinear;
@@ -87,7 +87,7 @@ TEST(stress_lightfield, a_light_field_of_one_view_refocuses_to_the_view) {
     }
     // Stack extraction from one view.
     const LightField lf = make_lightfield(1, 1, {7, 5}, 3, [](int, int c, std::size_t i) { return float(i * 3 + std::size_t(c)); });
-    StackSpec spec;
+    ExtractStackOptions spec;
     spec.references = {{0.0, kStressNaN, 0.0}, {1e300, kStressNaN, 3.0}, {kStressNaN, kStressInf, 1000.0}, {kStressNaN, 1e-4, 1.0}};
     auto st = extract_stack(lf, spec);
     ASSERT_TRUE(st) << st.message();
@@ -113,7 +113,7 @@ TEST(stress_lightfield, constant_views_refocus_to_the_constant) {
         std::vector<float> value(static_cast<std::size_t>(nch));
         for (float& v : value) v = rng.pixel();
         const LightField lf = make_lightfield(rows, cols, sz, nch, [&](int, int c, std::size_t) { return value[std::size_t(c)]; });
-        RefocusSettings rs;
+        RefocusOptions rs;
         rs.focus_disparity = random_disparity(rng);
         rs.aperture_radius = random_aperture(rng);
         rs.filter = rng.chance(0.5) ? LightFieldFilter::Bicubic : LightFieldFilter::Bilinear;
@@ -149,7 +149,7 @@ TEST(stress_lightfield, one_pixel_views_average_the_aperture) {
         for (float& v : value) v = rng.pixel();
         LightField lf = make_lightfield(rows, cols, {1, 1}, 1, [&](int v, int, std::size_t) { return value[std::size_t(v)]; });
         lf.center_row = rng.integer(0, rows - 1), lf.center_col = rng.integer(0, cols - 1);
-        RefocusSettings rs;
+        RefocusOptions rs;
         rs.focus_disparity = random_disparity(rng);
         rs.aperture_radius = random_aperture(rng);
         rs.filter = LightFieldFilter::Bilinear;  // bicubic weights sum to 1 only up to rounding
@@ -178,7 +178,7 @@ TEST(stress_lightfield, a_nan_pixel_stays_local) {
         const int w = rng.integer(18, 60), h = rng.integer(18, 60);
         const int rows = rng.integer(1, 7), cols = rng.integer(1, 7);
         LightField lf = make_lightfield(rows, cols, {w, h}, 1, [&](int, int, std::size_t) { return rng.pixel(); });
-        RefocusSettings rs;
+        RefocusOptions rs;
         rs.focus_disparity = rng.uniform(-2.0, 2.0);
         rs.aperture_radius = rng.uniform(0.0, 4.0);
         // Finite first.
@@ -209,7 +209,7 @@ TEST(stress_lightfield, invalid_settings_are_errors_naming_them) {
     const LightField lf = make_lightfield(3, 3, {8, 4}, 3, [](int v, int c, std::size_t i) { return float(v + c) + 0.1f * float(i); });
     const std::vector<double> bad = {kStressNaN, kStressInf, -kStressInf};
     for (int iter = 0; iter < 20; ++iter) {
-        RefocusSettings rs;
+        RefocusOptions rs;
         const bool disparity = rng.chance(0.5);
         if (disparity) rs.focus_disparity = rng.pick(bad);
         else rs.aperture_radius = rng.chance(0.5) ? rng.pick(bad) : -rng.log_uniform(1e-300, 1e3);
@@ -217,7 +217,7 @@ TEST(stress_lightfield, invalid_settings_are_errors_naming_them) {
         ASSERT_FALSE(out) << "disparity " << rs.focus_disparity << ", aperture " << rs.aperture_radius;
         EXPECT_TRUE(contains(out.message(), disparity ? "focus_disparity" : "aperture_radius")) << out.message();
 
-        StackSpec spec;
+        ExtractStackOptions spec;
         StackRequest q;
         if (disparity) q.focus_disparity = rng.chance(0.5) ? kStressInf : -kStressInf;
         else q.aperture_radius = rs.aperture_radius;
@@ -226,7 +226,7 @@ TEST(stress_lightfield, invalid_settings_are_errors_naming_them) {
         ASSERT_FALSE(plan);
         EXPECT_TRUE(contains(plan.message(), "references[1]")) << plan.message();
     }
-    StackSpec spec;
+    ExtractStackOptions spec;
     spec.references = {{kStressNaN, -1.0, 1.0}};
     auto plan = plan_stack(lf, spec);
     ASSERT_FALSE(plan);
@@ -300,7 +300,7 @@ TEST(stress_lightfield, extracted_stacks_are_finite) {
         lf.geometry.focal_baseline = rng.log_uniform(1e-2, 1e4);
         lf.geometry.disparity_at_infinity = rng.uniform(-1.0, 0.0);
         lf.geometry.depth_known = true;
-        StackSpec spec;
+        ExtractStackOptions spec;
         const int n = rng.integer(1, 6);
         for (int i = 0; i < n; ++i) {
             StackRequest q;

@@ -238,7 +238,7 @@ Result<LightField> load_lightfield(const std::string& source, const LightFieldCo
         1);
     for (const Status& s : errors)
         if (!s) return s;
-    if (!finished) return Status::error("loading light field '" + source + "': cancelled");
+    if (!finished) return Status::error("loading light field '" + source + "': cancelled", StatusCode::Cancelled);
 
     // Sizes and channels before anything else, so errors name the file.
     for (std::size_t i = 1; i < lf.views.size(); ++i) {

@@ -138,12 +138,12 @@ Result<LightFieldConfig> read_lightfield_config(const std::string& path) {
     return parse_lightfield_config(t.value(), "'" + path + "'");
 }
 
-Result<StackSpec> parse_stack_spec(const std::string& text, const std::string& where) {
+Result<ExtractStackOptions> parse_extract_stack_options(const std::string& text, const std::string& where) {
     try {
         const json j = parse_text(text, where);
         allow_only(j, "", {"gdof_lightfield_stack", "coc_px", "filter", "references", "disparities", "depths",
                            "apertures", "comment"});
-        StackSpec s;
+        ExtractStackOptions s;
         if (j.contains("gdof_lightfield_stack") && integer(j["gdof_lightfield_stack"], "gdof_lightfield_stack") != 1)
             fail("gdof_lightfield_stack", "unsupported version " + j["gdof_lightfield_stack"].dump() + " (expected 1)");
         if (j.contains("coc_px")) s.coc_px = positive(j["coc_px"], "coc_px");
@@ -216,10 +216,10 @@ Result<StackSpec> parse_stack_spec(const std::string& text, const std::string& w
     }
 }
 
-Result<StackSpec> read_stack_spec(const std::string& path) {
+Result<ExtractStackOptions> read_extract_stack_options(const std::string& path) {
     auto t = read_text(path);
     if (!t) return t.status();
-    return parse_stack_spec(t.value(), "'" + path + "'");
+    return parse_extract_stack_options(t.value(), "'" + path + "'");
 }
 
 }  // namespace gdof::io

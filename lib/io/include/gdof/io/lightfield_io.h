@@ -46,8 +46,8 @@ Result<LightFieldConfig> parse_lightfield_config(const std::string& json_text, c
 Result<LightFieldConfig> read_lightfield_config(const std::string& path);
 
 // stack.json -> the references to extract.
-Result<StackSpec> parse_stack_spec(const std::string& json_text, const std::string& where = "stack.json");
-Result<StackSpec> read_stack_spec(const std::string& path);
+Result<ExtractStackOptions> parse_extract_stack_options(const std::string& json_text, const std::string& where = "stack.json");
+Result<ExtractStackOptions> read_extract_stack_options(const std::string& path);
 
 // The files of a light field on disk (no pixels read).
 struct LightFieldFiles {
