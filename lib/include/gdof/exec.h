@@ -3,6 +3,9 @@
 #pragma once
 
 #include <functional>
+#include <string>
+
+#include "gdof/status.h"
 
 namespace gdof {
 
@@ -20,5 +23,12 @@ struct Exec {
 // Runs f(begin, end) over [0, n) in parallel chunks on nthreads (TBB arena).
 // Returns false if cancelled. Chunking never affects results.
 bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain = 1);
+
+// The same for work that can fail: f(begin, end) returns a Status. Chunks
+// after a failure are skipped; the error returned is the one of the
+// lowest-indexed failing chunk, so the message does not depend on the thread
+// count. Cancellation gives Status::cancelled(what).
+Status parallel_run(const Exec& exec, long n, const std::function<Status(long, long)>& f, long grain = 1,
+                    const std::string& what = {});
 
 }  // namespace gdof

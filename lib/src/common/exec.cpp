@@ -1,8 +1,8 @@
 #include "gdof/exec.h"
 
-#include <atomic>
-
 #include <algorithm>
+#include <atomic>
+#include <mutex>
 
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
@@ -33,6 +33,36 @@ bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)
         arena.execute([&] { tbb::parallel_for(tbb::blocked_range<long>(0, n, std::size_t(grain)), body); });
     }
     return !stop && !exec.is_cancelled();
+}
+
+Status parallel_run(const Exec& exec, long n, const std::function<Status(long, long)>& f, long grain,
+                    const std::string& what) {
+    std::mutex mu;
+    long failed_at = -1;  // begin of the lowest failing chunk
+    Status first;
+    std::atomic<bool> failed{false};
+    const bool finished = parallel_for(
+        exec, n,
+        [&](long b, long e) {
+            if (failed.load(std::memory_order_relaxed)) {
+                // Still run chunks before the failure: one of them may fail
+                // too, and the lowest failing chunk decides the message.
+                std::lock_guard<std::mutex> lock(mu);
+                if (b > failed_at) return;
+            }
+            Status st = f(b, e);
+            if (st) return;
+            std::lock_guard<std::mutex> lock(mu);
+            if (failed_at < 0 || b < failed_at) {
+                failed_at = b;
+                first = std::move(st);
+            }
+            failed = true;
+        },
+        grain);
+    if (failed) return first;
+    if (!finished) return Status::cancelled(what);
+    return Status::ok();
 }
 
 }  // namespace gdof
