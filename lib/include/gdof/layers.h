@@ -14,6 +14,7 @@
 #include "gdof/exec.h"
 #include "gdof/image.h"
 #include "gdof/image_set.h"
+#include "gdof/plate.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -118,25 +119,45 @@ Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const Position
 
 // Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
-// opaque) goes to exactly one slice, the slice of its depth, with its colour
-// and alpha. The depth channel (source.depth_channel or Z, depth.Z, Depth.Z,
-// depth, Depth) is decoded with source.depth_decode; pixels whose decoded
-// depth is not finite (invalid, holes, sky) get Z = +inf and belong to the
-// farthest slice. Position channels (source.position_channels) are carried.
+// opaque) goes to the slice of its depth, with its colour and alpha. The
+// depth is `options.depth` (a plate's prepared depth, plate.h: holes filled,
+// mixed silhouette pixels split), or else the depth channel
+// (source.depth_channel or Z, depth.Z, Depth.Z, depth, Depth) decoded with
+// source.depth_decode, where a depth that is not finite (a hole, sky) is
+// +inf. A mixed pixel goes to its background's slice whole, and to its
+// foreground's slice with the foreground's share of its colour and alpha (so
+// `over` gives the pixel back exactly). Position channels are carried.
+//
+// Continued surfaces (continue_surfaces): a slice boundary that cuts a
+// continuous surface (a floor, a wall: depth maps are continuous) must not
+// show. So every slice also holds, with their own colour, alpha and depth,
+// the pixels of nearer slices that continue its own surface: reached from
+// its own pixels through neighbours whose depths lie within
+// `continuity` of each other, up to `extend_px` pixels away. When a nearer
+// slice's edge is blurred away, the very surface shows through, not a fill;
+// a silhouette (a depth step larger than `continuity`) stops the
+// continuation, so a foreground never shows behind itself.
+//
 // Extension: for every slice but the nearest non-empty one, the pixels
 // present in nearer slices (hidden behind them) within `extend_px` pixels
 // (Euclidean) of the slice's own pixels -- for the farthest non-empty slice
-// all hidden pixels of the image -- get alpha 1 and a push-pull fill
-// (fill.h) of the slice's unpremultiplied colour (weights = its alpha) and
-// of its depth and positions (weights = its alpha where finite), so
-// blurring a foreground away reveals plausible background, not black.
+// all hidden pixels of the image -- that are not continued get alpha 1 and a
+// push-pull fill (fill.h) of the slice's unpremultiplied colour (weights = its
+// alpha) and of its depth and positions (weights = its alpha where finite),
+// so blurring a foreground away reveals plausible background, not black.
 struct SliceOptions {
     LayerSplit split;
-    PositionSource source;   // depth channel and its encoding
+    PositionSource source;   // depth channel and its encoding (when `depth` is null)
     double extend_px = 0.0;  // typically the largest blur radius of the image
     // Optional: the blur radius of every pixel (row-major over the image's
-    // data window), for Auto's blur cuts; empty: gaps only. Not owned.
-    std::span<const float> radius;
+    // data window), for Auto's blur cuts; empty: gaps only. With a prepared
+    // depth that has mixed pixels, `fg_radius` gives their foregrounds'
+    // radii (NaN elsewhere). Not owned.
+    std::span<const float> radius, fg_radius;
+    // The plate's prepared depth over the image's data window; not owned.
+    const PlateDepth* depth = nullptr;
+    bool continue_surfaces = true;
+    double continuity = 1.05;  // neighbouring depth ratio within which a surface continues
 };
 Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                  const Exec& exec = {});

@@ -11,7 +11,9 @@
 //   a depth channel                     -> layers_from_depth_map, extended by
 //                                          the largest blur radius of the image
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "diffusion/defocus_internal.h"
@@ -76,6 +78,35 @@ void carry_channel(const Image& src, int c, Image& dst) {
     }
 }
 
+// The blur radius of every pixel of a plate at its prepared depth (pixel
+// centres), and of every mixed pixel's foreground (NaN elsewhere; empty
+// without mixed pixels).
+Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, std::vector<float>& r,
+                   std::vector<float>& rf, const Exec& exec) {
+    const Roi w = pd.window;
+    const int W = w.width();
+    r.assign(pd.depth.size(), 0.0f);
+    if (pd.has_mixed()) rf.assign(pd.depth.size(), std::numeric_limits<float>::quiet_NaN());
+    return parallel_run(exec, w.height(), [&](long y0, long y1) {
+        std::vector<PixelDepth> px(static_cast<std::size_t>(W));
+        std::vector<float> out(static_cast<std::size_t>(W));
+        for (long yy = y0; yy < y1; ++yy) {
+            const std::size_t row = std::size_t(yy) * std::size_t(W);
+            for (int x = 0; x < W; ++x) px[std::size_t(x)] = {w.x0 + x + 0.5, w.y0 + yy + 0.5, pd.depth[row + std::size_t(x)]};
+            if (Status st = field.evaluate(camera, px, std::span<float>(r.data() + row, std::size_t(W))); !st) return st;
+            if (!pd.has_mixed()) continue;
+            for (int x = 0; x < W; ++x) {
+                const float f = pd.fg_depth[row + std::size_t(x)];
+                px[std::size_t(x)].depth = std::isnan(f) ? 1.0 : f;
+            }
+            if (Status st = field.evaluate(camera, px, out); !st) return st;
+            for (int x = 0; x < W; ++x)
+                if (!std::isnan(pd.fg_depth[row + std::size_t(x)])) rf[row + std::size_t(x)] = out[std::size_t(x)];
+        }
+        return Status::ok();
+    }, 8, "blur map");
+}
+
 }  // namespace
 
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
@@ -130,6 +161,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
 
     // Layers.
     const auto t0 = std::chrono::steady_clock::now();
+    PlateDepth plate_depth;
     Result<std::vector<Layer>> layers = std::vector<Layer>{};
     if (deep_part >= 0) {
         const DeepImage& d = input.deep(std::size_t(deep_part));
@@ -166,14 +198,28 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
                                  (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
                                  "' (channels: " + channel_list(*flat) + ")",
                                  StatusCode::NotFound, "depth_channel");
+        // The plate's depth, decoded and cleaned (holes, speckles, mixed
+        // silhouette pixels), then every sample's blur at its own depth.
+        DepthCleanupOptions cl = settings.cleanup;                     // EXP
+        if (std::getenv("GDOF_EXP_NOSPECK")) cl.remove_speckles = false;  // EXP
+        if (std::getenv("GDOF_EXP_NOMIXED")) cl.split_mixed = false;      // EXP
+        auto pd = prepare_plate_depth(*flat, *z, settings.source.depth_decode, camera, cl, exec);
+        if (!pd) return pd.status().prefix("defocus");
+        plate_depth = std::move(pd).value();
+        std::vector<float> r, rf;
+        if (Status st = plate_radii(field, camera, plate_depth, r, rf, exec); !st)
+            return st.prefix("defocus: blur field");
         SliceOptions so;
         so.split = settings.split;
         so.source = settings.source;
-        std::vector<float> r(flat->npixels());
-        if (Status st = evaluate_blur_map(field, camera, *flat, settings.source, r.data(), exec); !st)
-            return st.prefix("defocus: blur field");
-        so.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
-        if (settings.split.blur_cuts == LayerSplit::BlurCuts::On) so.radius = r;
+        so.depth = &plate_depth;
+        if (std::getenv("GDOF_EXP_NOCONT")) so.continue_surfaces = false;  // EXP
+        so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
+        // Continued surfaces hide the cuts, so plates are cut by blur unless told not to.
+        if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
+            so.radius = r;
+            so.fg_radius = rf;
+        }
         layers = layers_from_depth_map(*flat, so, exec);
     }
     const double t_layers = seconds_since(t0);
@@ -184,6 +230,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
     DefocusStats& S = stats ? *stats : local;
     auto out = defocus_layers(*layers, field, camera, settings, &S, exec);
     S.t_layers = t_layers;
+    S.depth = plate_depth.stats;
     if (!out) return out.status();
 
     // One flat part: R, G, B, A with the input's types, then the carried channels.
