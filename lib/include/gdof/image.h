@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gdof/metadata.h"
+#include "gdof/status.h"
 
 namespace gdof {
 
@@ -122,7 +123,9 @@ public:
     int nchannels() const { return int(channels_.size()); }
     const std::vector<ChannelSpec>& channels() const { return channels_; }
     const ChannelSpec& channel(int c) const { return channels_[std::size_t(c)]; }
-    void set_channel_type(int c, PixelType t);  // Half <-> Float only; UInt is fixed
+    // Half <-> Float only: a UInt channel stays UInt and a float one float
+    // (an error naming the channel otherwise; nothing changes).
+    Status set_channel_type(int c, PixelType t);
     void rename_channel(int c, std::string name) { channels_[std::size_t(c)].name = std::move(name); }
     int channel_index(std::string_view name) const;  // -1 if absent
     // Adds a channel (zero-filled) and returns its index.

@@ -139,9 +139,9 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
         if (d.z_channel() < 0) return Status::error("defocus: the deep part has no depth channel 'Z'");
         // Every sample's blur: it places Auto's blur cuts and bounds the extension.
         std::vector<float> r(d.total_samples());
-        if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
+        if (Status st = evaluate_blur_deep(field, camera, d, -1, r, exec); !st)
             return st.prefix("defocus: blur field");
-        layers = layers_from_deep(d, settings.split, exec, r);  // blur_cuts Off ignores the radii
+        layers = layers_from_deep(d, settings.split, r, exec);  // blur_cuts Off ignores the radii
         if (layers) {
             // Deep renders keep only visible samples: extend each layer behind
             // the nearer layers that fully hide it, as far as the largest blur
@@ -152,7 +152,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
             if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
         }
     } else if (from_parts) {
-        layers = layers_from_parts(input, settings.source);
+        layers = layers_from_parts(input, settings.source, exec);
     } else {
         const RgbaIndices rgba = find_rgba(*flat);
         if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
@@ -170,7 +170,9 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
         so.split = settings.split;
         so.source = settings.source;
         std::vector<float> r(flat->npixels());
-        if (Status st = evaluate_blur_map(field, camera, *flat, settings.source, r.data(), exec); !st)
+        if (Status st = evaluate_blur_map(field, camera, *flat, settings.source,
+                                          ImageView::planar(r.data(), 1, flat->data_window()), exec);
+            !st)
             return st.prefix("defocus: blur field");
         so.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
         if (settings.split.blur_cuts == LayerSplit::BlurCuts::On) so.radius = r;
@@ -188,7 +190,8 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
 
     // One flat part: R, G, B, A with the input's types, then the carried channels.
     Image res = std::move(out).value();
-    for (int c = 0; c < 4; ++c) res.set_channel_type(c, types[c]);
+    for (int c = 0; c < 4; ++c)
+        if (Status st = res.set_channel_type(c, types[c]); !st) return st.prefix("defocus");
     res.set_display_window(display);
     res.metadata = *md;
     res.name = name;

@@ -143,7 +143,7 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
         S.pixels_diffused += w.npixels();
         S.pixels_skipped += lwin.npixels() - intersect(lwin, w).npixels();
         const auto t0 = std::chrono::steady_clock::now();
-        st = composite_over(out, {d.rgba[0].data(), d.rgba[1].data(), d.rgba[2].data(), d.rgba[3].data()}, w, exec);
+        st = composite_over(out, {d.rgba.plane(0), d.rgba.plane(1), d.rgba.plane(2), d.rgba.plane(3)}, w, exec);
         S.t_composite += seconds_since(t0);
         if (!st) return st;
         done += share;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
-#include <stdexcept>
 
 namespace gdof {
 
@@ -66,11 +65,14 @@ void Image::number_float_planes() {
         if (channels_[c].type != PixelType::UInt) fplane_of_[c] = k++;
 }
 
-void Image::set_channel_type(int c, PixelType t) {
+Status Image::set_channel_type(int c, PixelType t) {
     auto& ch = channels_[std::size_t(c)];
     if ((ch.type == PixelType::UInt) != (t == PixelType::UInt))
-        throw std::logic_error("Image::set_channel_type: cannot convert between uint and float storage");
+        return Status::error("channel '" + ch.name + "' is " + to_string(ch.type) + " and cannot become " + to_string(t) +
+                                 " (uint and float channels keep their storage)",
+                             StatusCode::InvalidArgument);
     ch.type = t;
+    return Status::ok();
 }
 
 int Image::channel_index(std::string_view name) const {

@@ -124,8 +124,8 @@ struct Over {
 
 }  // namespace
 
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec,
-                                            std::span<const float> sample_radius) {
+Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
+                                            std::span<const float> sample_radius, const Exec& exec) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
@@ -263,7 +263,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
     return layers;
 }
 
-Result<Image> flatten_deep(const DeepImage& deep) {
+Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
@@ -280,7 +280,7 @@ Result<Image> flatten_deep(const DeepImage& deep) {
     const float* sg = deep.samples(ch.g);
     const float* sb = deep.samples(ch.b);
     const float* sa = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    parallel_for(Exec{}, win.height(), [&](long r0, long r1) {
+    const bool ok = parallel_for(exec, win.height(), [&](long r0, long r1) {
         std::vector<std::size_t> order;
         for (long row = r0; row < r1; ++row) {
             const int y = win.y0 + int(row);
@@ -299,6 +299,7 @@ Result<Image> flatten_deep(const DeepImage& deep) {
             }
         }
     });
+    if (!ok) return Status::cancelled("flatten");
     return out;
 }
 

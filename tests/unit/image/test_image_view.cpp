@@ -136,3 +136,19 @@ TEST(Image, AddAndRemoveChannelsKeepTheOtherPlanes) {
     EXPECT_EQ(v.at(1, 2, 1), 9.5f);
     EXPECT_EQ(v.at(0, 0, 0), 10.0f);
 }
+
+TEST(Image, SetChannelTypeKeepsStorageKindsAndNamesTheChannel) {
+    Image img({{"R", PixelType::Float}, {"id", PixelType::UInt}}, Roi{0, 0, 1, 1});
+    EXPECT_TRUE(img.set_channel_type(0, PixelType::Half));
+    EXPECT_EQ(img.channel(0).type, PixelType::Half);
+    EXPECT_TRUE(img.set_channel_type(0, PixelType::Float));
+    Status st = img.set_channel_type(0, PixelType::UInt);
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
+    EXPECT_NE(st.message().find("'R'"), std::string::npos) << st.message();
+    EXPECT_EQ(img.channel(0).type, PixelType::Float);  // unchanged
+    st = img.set_channel_type(1, PixelType::Half);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("'id'"), std::string::npos) << st.message();
+    EXPECT_EQ(img.channel(1).type, PixelType::UInt);
+}
