@@ -53,9 +53,8 @@ int explicit_iterations(double max_radius_px, const DiffusionOptions& settings);
 // Number of ADI sub-steps used for a largest radius.
 int adi_steps_for(double max_radius_px, const DiffusionOptions& settings);
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
-// iterations, measured by tests/bench/bench_solvers (2.0 on a quiet 2-core
-// Xeon at 640x360, 2.5 on the same machine under load: both scale with the
-// pixel count, so the ratio holds at any size).
+// iterations; both scale with the pixel count, so the ratio holds at any
+// size. Measured by tests/bench/bench_solvers (docs/diffusion.md, "auto").
 inline constexpr double kAdiStepCost = 2.0;
 // The solver that runs for a largest radius: settings.solver unless it is
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
