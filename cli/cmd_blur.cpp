@@ -86,9 +86,9 @@ bool eval_blur_deep(Frame& f, DeepImage& deep, const std::string& where, std::ve
     if (bc >= 0 && deep.channel(bc).type == PixelType::UInt)
         runtime_error("--eval-blur: " + where + " has a uint channel 'blur'; cannot write the blur there");
     if (bc < 0) bc = deep.add_channel({"blur", PixelType::Float});
-    else deep.set_channel_type(bc, PixelType::Float);
+    else check(deep.set_channel_type(bc, PixelType::Float), "--eval-blur: " + where);
     run_with_progress(f, where, [&](const Exec& exec) {
-        return evaluate_blur_deep(field, camera, deep, zc, deep.samples(bc), exec);
+        return evaluate_blur_deep(field, camera, deep, zc, std::span<float>(deep.samples(bc), deep.total_samples()), exec);
     });
     return true;
 }
@@ -165,9 +165,9 @@ void do_eval_blur(Frame& f) {
             bc = -1;
         }
         if (bc < 0) bc = img.add_channel({"blur", PixelType::Float});
-        else img.set_channel_type(bc, PixelType::Float);
+        else check(img.set_channel_type(bc, PixelType::Float), "--eval-blur: " + pwhere);
         run_with_progress(f, pwhere, [&](const Exec& exec) {
-            return evaluate_blur_map(field, camera, img, source, img.plane(bc), exec);
+            return evaluate_blur_map(field, camera, img, source, img.channel_view(bc), exec);
         });
         ++evaluated;
     }

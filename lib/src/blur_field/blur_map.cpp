@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "gdof/image_ops.h"
+#include "image/row_major_planes.h"
+#include "image/view_shape.h"
 
 namespace gdof {
 
@@ -98,8 +100,9 @@ Result<int> find_depth_channel(const Image& img, const std::string& name) {
     return -1;
 }
 
-Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
-                         float* out, const Exec& exec) {
+// evaluate_blur_map into a row-major plane over the data window.
+static Status blur_map_into(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
+                            float* out, const Exec& exec) {
     auto pos = find_position_channels(img, source.position_channels);
     if (!pos) return pos.status();
     int zc = -1;
@@ -159,8 +162,9 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
     });
 }
 
-Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel, float* out,
-                          const Exec& exec) {
+// evaluate_blur_deep into total_samples() floats.
+static Status blur_deep_into(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel, float* out,
+                             const Exec& exec) {
     const int zc = z_channel >= 0 ? z_channel : img.z_channel();
     if (zc < 0 || zc >= img.nchannels() || img.channel(zc).type == PixelType::UInt)
         return Status::error("deep image has no float depth channel 'Z'");
@@ -182,6 +186,24 @@ Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const De
         }
         return field.evaluate(camera, std::span<const PixelDepth>(samples), std::span<float>(out + first, last - first));
     });
+}
+
+Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
+                         const ImageView& out, const Exec& exec) {
+    if (Status st = image_detail::check_view_shape(out, 1, img.data_window(), "blur map output"); !st) return st;
+    const image_detail::RowMajorPlanes<float> plane(out);
+    Status st = blur_map_into(field, camera, img, source, img.data_window().empty() ? nullptr : plane.plane(0), exec);
+    plane.store();
+    return st;
+}
+
+Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel,
+                          std::span<float> out, const Exec& exec) {
+    if (out.size() != img.total_samples())
+        return Status::error("deep blur output has " + std::to_string(out.size()) + " values; expected one per sample (" +
+                                 std::to_string(img.total_samples()) + ")",
+                             StatusCode::InvalidArgument);
+    return blur_deep_into(field, camera, img, z_channel, out.data(), exec);
 }
 
 }  // namespace gdof

@@ -78,6 +78,6 @@ struct DeepSurface {
 void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_opaque,
                 std::vector<DeepSurface>& out);
 // Assembles the deep image from every pixel's surfaces (row-major over window).
-DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels);
+Result<DeepImage> make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels);
 
 }  // namespace gdof::rt

@@ -285,7 +285,9 @@ Status render_impl(const RayTracer& tracer, const RenderOptions& settings, Rende
         stats->camera = setup.label;
     }
     if (deep) {
-        *deep = rt::make_deep_image(disp, settings.aovs, deep_pixels);
+        auto made = rt::make_deep_image(disp, settings.aovs, deep_pixels);
+        if (!made) return made.status();
+        *deep = std::move(made).value();
         cam.to_metadata(deep->metadata);
         deep->metadata.set_string("gdof:renderCamera", setup.label);
     }
