@@ -3,7 +3,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <span>
 #include <vector>
 
@@ -31,27 +30,17 @@ std::optional<std::array<int, 3>> find_xyz(const Image& img, const std::string& 
     return std::nullopt;
 }
 
-// Runs row(y, status&) over the rows in parallel; the first error wins.
+// Runs row(y) over the rows in parallel (parallel_run: the error returned is
+// that of the lowest failing row, whatever the thread count); progress per row.
 Status for_rows(const Exec& exec, int height, const std::function<Status(long)>& row) {
     std::atomic<long> done{0};
-    std::mutex mu;
-    Status first;
-    bool failed = false;
-    const bool finished = parallel_for(exec, height, [&](long y0, long y1) {
+    return parallel_run(exec, height, [&](long y0, long y1) -> Status {
         for (long y = y0; y < y1; ++y) {
-            Status st = row(y);
-            if (!st) {
-                std::lock_guard<std::mutex> lock(mu);
-                if (!failed) first = st;
-                failed = true;
-                return;
-            }
+            if (Status st = row(y); !st) return st;
             exec.report(double(++done) / double(height));
         }
+        return Status::ok();
     });
-    if (failed) return first;
-    if (!finished) return Status::cancelled();
-    return Status::ok();
 }
 
 }  // namespace
