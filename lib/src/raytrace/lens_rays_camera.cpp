@@ -58,14 +58,12 @@ Vec3 NonlinearCamera::point_at(const PixelCone& c, Vec2 a, double depth) const {
 }
 
 void NonlinearCamera::ray(const PixelCone& c, Vec2 a, PolylineRay& out) const {
-    out.points.clear();
-    out.depth.clear();
     if (c.pinhole) {
-        out.points.push_back(c.central.origin);
-        out.depth.push_back(0.0);
-        out.far_direction = c.central.direction;
+        out.set_straight(c.central);
         return;
     }
+    out.points.clear();
+    out.depth.clear();
     const Vec3 off = aperture_offset_world(a);
     const std::size_t n = c.depth.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -73,6 +71,27 @@ void NonlinearCamera::ray(const PixelCone& c, Vec2 a, PolylineRay& out) const {
         out.depth.push_back(c.depth[i]);
     }
     out.far_direction = far_direction(c, off);
+}
+
+void NonlinearCamera::generate_ray(const PixelCone& c, const CameraSample& sample, PolylineRay& out) const {
+    const Vec2 j = sample.pixel_offset;
+    if (c.pinhole) {
+        out.set_straight(camera_.central_ray(c.px + j.x, c.py + j.y));
+        return;
+    }
+    ray_from_unit(c, sample.aperture, out);
+    if (j.x == 0 && j.y == 0) return;
+    // The offset position's cone is this one moved by offset * footprint(depth)
+    // (image y runs down, the camera's up vector up): move each vertex at its
+    // depth, and aim the far segment at its point one depth unit further on.
+    const Vec3 off = camera_.right() * j.x + camera_.up() * (-j.y);
+    const std::size_t n = out.points.size();
+    const double dl = out.depth[n - 1];
+    const double dpt = dot(out.far_direction, camera_.forward());
+    const Vec3 far_pt =
+        out.points[n - 1] + out.far_direction * (1.0 / std::max(dpt, 1e-12)) + off * footprint(dl + 1.0);
+    for (std::size_t i = 0; i < n; ++i) out.points[i] = out.points[i] + off * footprint(out.depth[i]);
+    out.far_direction = normalize(far_pt - out.points[n - 1]);
 }
 
 void NonlinearCamera::retarget(PixelCone& c, double px, double py) const {
