@@ -15,6 +15,7 @@ class ShiftedStackPixels final : public StackPixels {
 public:
     ShiftedStackPixels(StackPixels& inner, int dx, int dy) : inner_(inner), dx_(dx), dy_(dy) {}
     int size() const override { return inner_.size(); }
+    Result<ReferenceInfo> info(int ref) override { return inner_.info(ref); }
     Status read_tile(int ref, const Roi& tile, float* rgba) override {
         return inner_.read_tile(ref, {tile.x0 + dx_, tile.y0 + dy_, tile.x1 + dx_, tile.y1 + dy_}, rgba);
     }
