@@ -32,8 +32,6 @@ std::string frame_path(const Frame& f, const std::string& arg) {
     return r.value();
 }
 
-std::string size_str(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-
 Image read_map(Frame& f, const std::string& flag, const std::string& path) {
     io::ReadOptions ro;
     ro.linearize = false;  // depths are data
@@ -67,109 +65,72 @@ void run_composite(Frame& f) {
     if (!reader_r) runtime_error(flag + ": " + reader_r.message());
     io::StackReader& reader = *reader_r.value();
 
-    // Desired near/far.
+    // The source of the desired near/far (composite() evaluates it).
     if (!o.surfaces.empty() && (!o.near_map.empty() || !o.far_map.empty()))
         usage_error("--surfaces and --near-map/--far-map both given; use one source of desired focus");
     if (o.near_map.empty() != o.far_map.empty())
         usage_error(std::string(o.near_map.empty() ? "--far-map" : "--near-map") +
                     " given without " + (o.near_map.empty() ? "--near-map" : "--far-map"));
     const bool from_image = o.surfaces.empty() && o.near_map.empty();
-    DesiredFocus desired;
-    std::string source_what;
-    {
-        StageTimer t(s.stats, "composite: desired focus");
-        if (!o.surfaces.empty()) {
-            auto surf = parse_focus_surfaces(read_text("--surfaces", "file", o.surfaces));
-            if (!surf) runtime_error("--surfaces '" + o.surfaces + "': " + surf.message());
-            int w = stack.width, h = stack.height;
-            if (w <= 0 || h <= 0) {
-                // The manifest does not say: the first reference tells (it is opened).
-                auto info = reader.info(0);
-                if (!info) runtime_error(flag + ": " + info.message());
-                w = info->data_window.width();
-                h = info->data_window.height();
-            }
-            desired = take(desired_from_surfaces(surf.value(), w, h, s.exec), "--surfaces '" + o.surfaces + "'");
-            source_what = "surfaces '" + o.surfaces + "'";
-        } else if (!o.near_map.empty()) {
-            const Image near_img = read_map(f, "--near-map", o.near_map);
-            const Image far_img = read_map(f, "--far-map", o.far_map);
-            const int nc = find_focus_map_channel(near_img, "near"), fc = find_focus_map_channel(far_img, "far");
-            if (nc < 0) runtime_error("--near-map '" + o.near_map + "': no float channel");
-            if (fc < 0) runtime_error("--far-map '" + o.far_map + "': no float channel");
-            auto d = desired_from_maps(near_img, nc, far_img, fc);
-            if (!d) runtime_error("--near-map '" + o.near_map + "' / --far-map '" + o.far_map + "': " + d.message());
-            desired = std::move(d).value();
-            source_what = "maps '" + o.near_map + "', '" + o.far_map + "'";
-        } else {
-            if (f.stack.empty())
-                usage_error("--composite: no desired focus: give --surfaces FILE, --near-map/--far-map, or an input "
-                            "image with Z or P (and --blurfield) before --composite");
-            StackEntry& top = f.top(flag);
-            const std::string where = image_name(top);
-            if (top.images.empty() || top.images.is_deep(0))
-                runtime_error(flag + ": " + where + " must be a flat image with Z or P to derive near/far from the blur field");
-            const Image& img = top.images.flat(0);
-            const Camera camera = part_camera(f, img.metadata, img.display_window(), flag, where);
-            const BlurField field = field_for(f, camera, flag, where);
-            BlurFocusOptions bs;
-            bs.coc_px = stack.coc_px;
-            bs.source = PositionSource{f.position_channels, f.depth_channel, f.depth_decode};
-            s.progress.begin("composite: near/far from the blur field");
-            auto d = desired_from_blur_field(field, camera, img, bs, s.exec);
-            s.progress.end();
-            check_interrupted();
-            if (!d) runtime_error(flag + ": " + where + ": " + d.message());
-            desired = std::move(d).value();
-            source_what = "blur field along the rays of " + where;
-        }
+    FocusSource focus;
+    std::string source_what, focus_context;  // for --stats; for errors about the desired focus
+    Image near_img, far_img;
+    Camera camera;
+    BlurField field;
+    if (!o.surfaces.empty()) {
+        auto surf = parse_focus_surfaces(read_text("--surfaces", "file", o.surfaces));
+        if (!surf) runtime_error("--surfaces '" + o.surfaces + "': " + surf.message());
+        focus = std::move(surf).value();
+        source_what = "surfaces '" + o.surfaces + "'";
+        focus_context = "--surfaces '" + o.surfaces + "'";
+    } else if (!o.near_map.empty()) {
+        near_img = read_map(f, "--near-map", o.near_map);
+        far_img = read_map(f, "--far-map", o.far_map);
+        const int nc = find_focus_map_channel(near_img, "near"), fc = find_focus_map_channel(far_img, "far");
+        if (nc < 0) runtime_error("--near-map '" + o.near_map + "': no float channel");
+        if (fc < 0) runtime_error("--far-map '" + o.far_map + "': no float channel");
+        focus = FocusMaps{&near_img, nc, &far_img, fc};
+        source_what = "maps '" + o.near_map + "', '" + o.far_map + "'";
+        focus_context = "--near-map '" + o.near_map + "' / --far-map '" + o.far_map + "'";
+    } else {
+        if (f.stack.empty())
+            usage_error("--composite: no desired focus: give --surfaces FILE, --near-map/--far-map, or an input "
+                        "image with Z or P (and --blurfield) before --composite");
+        StackEntry& top = f.top(flag);
+        const std::string where = image_name(top);
+        if (top.images.empty() || top.images.is_deep(0))
+            runtime_error(flag + ": " + where + " must be a flat image with Z or P to derive near/far from the blur field");
+        const Image& img = top.images.flat(0);
+        camera = part_camera(f, img.metadata, img.display_window(), flag, where);
+        field = field_for(f, camera, flag, where);
+        BlurFocusOptions bs;
+        bs.coc_px = stack.coc_px;
+        bs.source = PositionSource{f.position_channels, f.depth_channel, f.depth_decode};
+        focus = FocusFromBlurField{&field, &camera, &img, bs};
+        source_what = "blur field along the rays of " + where;
+        focus_context = flag + ": " + where;
     }
-    const int W = desired.window.width(), H = desired.window.height();
-    if (stack.width > 0 && stack.height > 0 && (stack.width != W || stack.height != H))
-        runtime_error(flag + ": the desired focus (" + source_what + ") is " + size_str(W, H) + " but the stack '" +
-                      mpath + "' is " + size_str(stack.width, stack.height));
 
-    // Which references are needed (no pixel read yet).
-    std::vector<DepthInterval> limits;
-    for (const StackReference& r : stack.references) limits.push_back({r.near, r.far});
-    const StackIndex index = take(StackIndex::build(limits), flag + " '" + mpath + "'");
     CompositeOptions cs;
     cs.soft_k = o.soft_k;
     cs.aovs = o.aovs;
     CompositeStats stats;
-    StackSelection sel;
-    {
-        StageTimer t(s.stats, "composite: select");
-        const auto t0 = std::chrono::steady_clock::now();
-        sel = take(select_references(index, desired, cs, s.exec), flag);
-        stats.select_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    s.progress.begin("composite");
+    auto r = composite(stack, focus, reader, cs, &stats, s.exec);
+    s.progress.end();
+    check_interrupted();
+    if (!r) {
+        // The subject names the input at fault: the desired focus, or the stack (its near/far, its pixels).
+        const Status st = r.status();
+        check(st, st.subject() == "focus" ? focus_context : st.subject().empty() ? flag : flag + " '" + mpath + "'");
     }
-    const std::vector<int> used = sel.used_references();
-    if (used.empty()) runtime_error(flag + ": no pixel selected any reference (desired near/far are all NaN?)");
-
-    // The output's windows and metadata: those of the first used reference.
-    auto info = reader.info(used.front());
-    if (!info) runtime_error(flag + ": " + info.message());
-    if (info->data_window.width() != W || info->data_window.height() != H)
-        runtime_error(flag + ": reference '" + stack.references[std::size_t(used.front())].path + "' is " +
-                      size_str(info->data_window.width(), info->data_window.height()) + " but the desired focus (" +
-                      source_what + ") is " + size_str(W, H));
-
-    Image out;
-    {
-        StageTimer t(s.stats, "composite: pixels");
-        s.progress.begin("composite");
-        auto r = composite_stack(sel, reader, cs, info->data_window.x0, info->data_window.y0, &stats, s.exec);
-        s.progress.end();
-        check_interrupted();
-        if (!r) runtime_error(flag + " '" + mpath + "': " + r.message());
-        out = std::move(r).value();
-    }
-    out.set_display_window(info->display_window);
-    out.metadata = info->metadata;
-    // One lens focus no longer describes the result.
-    for (const char* a : {"focusDistance", "focus", "fNumber", "aperture"}) out.metadata.erase(a);
+    Image out = std::move(r).value();
+    s.stats.add("composite: desired focus", stats.desired_seconds);
+    s.stats.add("composite: select", stats.select_seconds);
+    s.stats.add("composite: pixels", stats.composite_seconds);
     out.metadata.set_string("gdof:stackManifest", mpath);
+    const int W = out.width(), H = out.height();
+    const std::vector<int>& used = stats.used_references;
 
     StackEntry e;
     e.images.parts.emplace_back(std::move(out));
