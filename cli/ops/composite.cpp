@@ -4,33 +4,26 @@
 // control grids), --near-map/--far-map (images), or, with neither, from the
 // blur field (--blurfield, else the camera's thin lens) along the rays of the
 // top image, which supplies Z or P and the camera and is replaced by the
-// result. Options may come before or after --composite.
+// result. Options may come before or after --composite: it runs when a step
+// comes that is not one of them (or at the end).
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
+#include "camera_field.h"
 #include "cli.h"
-#include "gdof/io/stack_sources.h"
 #include "gdof/compositing.h"
 #include "gdof/focal_stack.h"
 #include "gdof/focus_surfaces.h"
 #include "gdof/io/image_io.h"
-#include "gdof/io/sequence.h"
 #include "gdof/io/stack_reader.h"
+#include "gdof/io/stack_sources.h"
+#include "ops/ops.h"
 
 namespace gdof::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string frame_path(const Frame& f, const std::string& arg) {
-    if (!f.frame || !io::has_frame_pattern(arg)) return arg;
-    auto r = io::expand_frame_pattern(arg, *f.frame);
-    if (!r) runtime_error("'" + arg + "': " + r.message());
-    return r.value();
-}
 
 Image read_map(Frame& f, const std::string& flag, const std::string& path) {
     io::ReadOptions ro;
@@ -47,7 +40,7 @@ Image read_map(Frame& f, const std::string& flag, const std::string& path) {
 
 void run_composite(Frame& f) {
     Session& s = *f.session;
-    Frame::PendingComposite o = f.composite;
+    PendingComposite o = f.composite;
     f.composite.manifest.clear();
     const std::string flag = "--composite";
     const std::string mpath = o.manifest;
@@ -78,7 +71,7 @@ void run_composite(Frame& f) {
     Camera camera;
     BlurField field;
     if (!o.surfaces.empty()) {
-        auto surf = parse_focus_surfaces(read_text("--surfaces", "file", o.surfaces));
+        auto surf = parse_focus_surfaces(read_flag_file("--surfaces", "file", o.surfaces));
         if (!surf) runtime_error("--surfaces '" + o.surfaces + "': " + surf.message());
         focus = std::move(surf).value();
         source_what = "surfaces '" + o.surfaces + "'";
@@ -105,15 +98,13 @@ void run_composite(Frame& f) {
         field = field_for(f, camera, flag, where);
         BlurFocusOptions bs;
         bs.coc_px = stack.coc_px;
-        bs.source = PositionSource{f.position_channels, f.depth_channel, f.depth_decode};
+        bs.source = f.source;
         focus = FocusFromBlurField{&field, &camera, &img, bs};
         source_what = "blur field along the rays of " + where;
         focus_context = flag + ": " + where;
     }
 
-    CompositeOptions cs;
-    cs.soft_k = o.soft_k;
-    cs.aovs = o.aovs;
+    const CompositeOptions cs = o.options;
     CompositeStats stats;
     s.progress.begin("composite");
     auto r = composite(stack, focus, reader, cs, &stats, s.exec);
@@ -160,29 +151,66 @@ void run_composite(Frame& f) {
     }
 }
 
+int soft_k(const Step& s) {
+    const int k = parse_int(s.flag, s.args[0]);
+    if (k < 1 || k > 16) usage_error(s.flag + ": expected 1 (hard pick) to 16, got '" + s.args[0] + "'");
+    return k;
+}
+
+// --aovs: the pending --render's (--aovs=LIST), else --composite's.
+void set_aovs(Frame& f, const Step& s) {
+    if (f.render.pending()) return set_render_aovs(f, s);
+    if (!s.args.empty() && s.args[0] != "all")
+        usage_error(s.flag + "=" + s.args[0] + ": --composite's AOVs are stack.index and stack.deviation: give --aovs alone");
+    f.composite.options.aovs = true;
+}
+
+unsigned composite_option_waits(const Frame&, const Step&) { return kCompositeWaits; }
+
+// A --composite option: waits with it (and runs a pending --render first).
+Command option(std::vector<std::string> names, std::string args, std::string help,
+               std::function<void(Frame&, const Step&)> run, std::vector<int> file_args = {0}) {
+    return {.names = std::move(names), .args = std::move(args), .kind = Kind::Modifier,
+            .group = "Compositing from focus/aperture stacks (method 2)", .help = std::move(help),
+            .file_args = std::move(file_args), .run = std::move(run), .lets_wait = composite_option_waits};
+}
+
 }  // namespace
 
-bool composite_step(Frame& f, const Step* step) {
-    if (step && !step->is_input()) {
-        const std::string& n = step->name();
-        const std::vector<std::string>& a = step->args;
-        if (n == "--composite") {
-            if (!f.composite.manifest.empty()) run_composite(f);
-            f.composite.manifest = frame_path(f, a[0]);
-            return true;
-        }
-        if (n == "--surfaces") return f.composite.surfaces = frame_path(f, a[0]), true;
-        if (n == "--near-map") return f.composite.near_map = frame_path(f, a[0]), true;
-        if (n == "--far-map") return f.composite.far_map = frame_path(f, a[0]), true;
-        if (n == "--soft") return f.composite.soft_k = int(parse_double(step->flag, a[0])), true;
-        if (n == "--aovs") {
-            if (!a.empty() && a[0] != "all")
-                usage_error(step->flag + "=" + a[0] + ": --composite's AOVs are stack.index and stack.deviation: give --aovs alone");
-            return f.composite.aovs = true, true;
-        }
-    }
+void run_pending_composite(Frame& f) {
     if (!f.composite.manifest.empty()) run_composite(f);
-    return false;
+}
+
+std::vector<Command> composite_commands() {
+    std::vector<Command> t;
+    Command composite = option({"--composite"}, "MANIFEST",
+                               "pull each pixel from the stack reference whose near/far best matches the desired one "
+                               "(from --surfaces, --near-map/--far-map, or the top image's Z/P with --blurfield)",
+                               [](Frame& f, const Step& s) {
+                                   run_pending_composite(f);
+                                   f.composite.manifest = s.args[0];
+                               });
+    composite.kind = Kind::Action;
+    composite.stack = StackUse::PushesImage;
+    t.push_back(std::move(composite));
+    t.push_back(option({"--surfaces"}, "FILE", "desired near/far focus surfaces (B-spline control grids, JSON)",
+                       [](Frame& f, const Step& s) { f.composite.surfaces = s.args[0]; }));
+    t.push_back(option({"--near-map"}, "FILE", "desired near depth per pixel (channel 'near', else Z, Y, first)",
+                       [](Frame& f, const Step& s) { f.composite.near_map = s.args[0]; }));
+    t.push_back(option({"--far-map"}, "FILE", "desired far depth per pixel (channel 'far', else Z, Y, first)",
+                       [](Frame& f, const Step& s) { f.composite.far_map = s.args[0]; }));
+    Command soft = option({"--soft"}, "K", "blend the best K references by deviation (default 1: hard pick)",
+                          [](Frame& f, const Step& s) { f.composite.options.soft_k = soft_k(s); }, {});
+    soft.check = [](const Step& s) { soft_k(s); };
+    t.push_back(std::move(soft));
+    Command aovs = option({"--aovs"}, "",
+                          "--composite also writes stack.index and stack.deviation; after --render, --aovs=LIST picks "
+                          "the AOVs (albedo,Z,P,N,id | all | none; default all)",
+                          set_aovs, {});
+    aovs.optional_value = true;
+    aovs.lets_wait = render_option_waits;  // a pending --render's option too
+    t.push_back(std::move(aovs));
+    return t;
 }
 
 }  // namespace gdof::cli
