@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
         if (program->global.threads > 0)
             thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                                  std::size_t(program->global.threads));
-        preflight_colour(session, program->steps);
+        preflight(session, program->steps);
         code = run_program(*program, session);
     } catch (const CliError& e) {
         session.progress.end();

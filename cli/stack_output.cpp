@@ -5,6 +5,8 @@
 // images. Shared by --lightfield and --render --stack.
 #include <filesystem>
 
+#include "stack_output.h"
+
 #include "cli.h"
 #include "gdof/io/image_io.h"
 #include "gdof/io/sequence.h"
@@ -27,10 +29,7 @@ StackOutput::StackOutput(Frame& f, const std::string& pattern, std::size_t n) : 
         if (fs::path(name).parent_path().string() != dir_)
             usage_error("-o '" + pattern + "': the stack's files must share one folder (the frame pattern is in a folder name)");
     manifest_ = (fs::path(dir_) / "manifest.json").string();
-    wo_.pixel_type = f.output_pixel_type;
-    wo_.compression = f.output_compression;
-    wo_.colorspace = f.output_colorspace;
-    wo_.colour = f.session->colour.get();
+    wo_ = f.output;
 }
 
 void StackOutput::create_folder() const {
@@ -44,9 +43,7 @@ void StackOutput::create_folder() const {
 Status StackOutput::write(std::size_t i, Image&& image) const {
     ImageSet set;
     set.parts.emplace_back(std::move(image));
-    Status st = io::write_image(names_[i], set, wo_);
-    if (!st) return st.message().find(names_[i]) != std::string::npos ? st : st.prefix("writing '" + names_[i] + "'");
-    return st;
+    return io::write_image(names_[i], set, wo_);  // its messages name the file
 }
 
 void StackOutput::write_manifest(FocalStack stack) const {

@@ -13,6 +13,8 @@ std::string short_usage_text() {
            "Try 'gdof --help' for the list of commands.\n";
 }
 
+std::string version_text() { return "gdof " + std::string(gdof::version()) + "\n"; }
+
 std::string usage_text() {
     std::ostringstream o;
     o << "gdof " << gdof::version() << ": generalized depth of field for film post\n\n"
@@ -23,11 +25,11 @@ std::string usage_text() {
       << "renamed, so a failed or interrupted run never leaves a partial file.\n";
     std::string group;
     std::size_t width = 0;
-    for (const CommandDef& d : command_table()) {
+    for (const Command& d : command_table()) {
         std::string head = d.names.front() + (d.args.empty() ? "" : " " + d.args);
         width = std::max(width, head.size() + (d.names.size() > 1 ? d.names[1].size() + 2 : 0));
     }
-    for (const CommandDef& d : command_table()) {
+    for (const Command& d : command_table()) {
         if (d.group != group) {
             group = d.group;
             o << "\n" << group << ":\n";

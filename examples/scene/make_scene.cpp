@@ -269,7 +269,10 @@ int main(int argc, char** argv) {
                           win, win);
         std::vector<std::uint32_t> counts(deep.size());
         for (std::size_t i = 0; i < deep.size(); ++i) counts[i] = std::uint32_t(deep[i].size());
-        d.set_sample_counts(counts);
+        if (auto st = d.set_sample_counts(counts); !st) {
+            std::fprintf(stderr, "gdof_example_scene: error: %s\n", st.message().c_str());
+            return 1;
+        }
         const double inv = 1.0 / (S * S);
         for (std::size_t i = 0; i < deep.size(); ++i) {
             std::size_t k = d.first_sample(i);

@@ -5,7 +5,9 @@
 #   set(GDOF_CAP_SOURCE_ROOT <dir>)   where the capability folders live
 #   gdof_capability(<name>
 #     DIR <folder>                 under GDOF_CAP_SOURCE_ROOT: sources <folder>/*.cpp,
-#                                  private headers <folder>/*.h (included as "<folder>/x.h")
+#                                  private headers <folder>/*.h (included as "<folder>/x.h";
+#                                  a dependency's private headers are visible too, also from
+#                                  another source root: io adapters use "common/json_read.h")
 #     [HEADERS <public headers>]   the public headers it owns ("camera.h", "io/colour.h")
 #     [DEPENDS <capabilities>]     the capabilities it may use (declared before it)
 #     [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
@@ -16,7 +18,29 @@
 # the capability itself or to one it depends on, directly or through others;
 # anything else stops the configure step with the offending file and line.
 
-function(_gdof_check_includes name file allowed)
+# The capability owning the private header "folder/x.h": the first of the
+# source roots (the capability's own first) that holds the file, else the
+# owner of the folder in the first root that has such a folder.
+function(_gdof_private_owner inc roots out)
+  string(REGEX REPLACE "/[^/]+$" "" folder "${inc}")
+  foreach(root IN LISTS roots)
+    if(EXISTS "${root}/${inc}")
+      get_property(owner GLOBAL PROPERTY "GDOF_FOLDER_OWNER_${root}/${folder}")
+      set(${out} "${owner}" PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  foreach(root IN LISTS roots)
+    get_property(owner GLOBAL PROPERTY "GDOF_FOLDER_OWNER_${root}/${folder}")
+    if(owner)
+      set(${out} "${owner}" PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  set(${out} "" PARENT_SCOPE)
+endfunction()
+
+function(_gdof_check_includes name file allowed roots)
   file(STRINGS "${file}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
   foreach(line IN LISTS lines)
     string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\".*" "\\1" inc "${line}")
@@ -28,7 +52,7 @@ function(_gdof_check_includes name file allowed)
                             "declared before '${name}' (dependencies must point down: lib/README.md)")
       endif()
     elseif(inc MATCHES "^([a-z_]+)/[^/]+$")
-      get_property(owner GLOBAL PROPERTY "GDOF_FOLDER_OWNER_${GDOF_CAP_SOURCE_ROOT}/${CMAKE_MATCH_1}")
+      _gdof_private_owner("${inc}" "${roots}" owner)
       if(NOT owner)
         message(FATAL_ERROR "${file}: includes \"${inc}\" from the folder '${CMAKE_MATCH_1}', "
                             "which is not a capability declared before '${name}'")
@@ -58,6 +82,15 @@ function(gdof_capability name)
   endforeach()
   list(REMOVE_DUPLICATES allowed)
   set_property(GLOBAL PROPERTY "GDOF_CAP_CLOSURE_${name}" "${allowed}")
+  # Where its private headers are looked up: its own source root, then those
+  # of its dependencies (the io adapters see the core's lib/src).
+  set_property(GLOBAL PROPERTY "GDOF_CAP_ROOT_${name}" "${GDOF_CAP_SOURCE_ROOT}")
+  set(roots "${GDOF_CAP_SOURCE_ROOT}")
+  foreach(cap IN LISTS allowed)
+    get_property(root GLOBAL PROPERTY "GDOF_CAP_ROOT_${cap}")
+    list(APPEND roots "${root}")
+  endforeach()
+  list(REMOVE_DUPLICATES roots)
 
   set(dir "${GDOF_CAP_SOURCE_ROOT}/${C_DIR}")
   set_property(GLOBAL PROPERTY "GDOF_FOLDER_OWNER_${dir}" ${name})
@@ -72,14 +105,14 @@ function(gdof_capability name)
     list(APPEND public_headers ${GDOF_CAP_INCLUDE_ROOT}/gdof/${h})
   endforeach()
   foreach(f IN LISTS sources private_headers public_headers)
-    _gdof_check_includes(${name} "${f}" "${allowed}")
+    _gdof_check_includes(${name} "${f}" "${allowed}" "${roots}")
   endforeach()
 
   add_library(gdof_${name} ${sources})
   set_target_properties(gdof_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME gdof_${name})
   target_include_directories(gdof_${name}
     PUBLIC $<BUILD_INTERFACE:${GDOF_CAP_INCLUDE_ROOT}> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
-    PRIVATE ${GDOF_CAP_SOURCE_ROOT})
+    PRIVATE ${roots})
   target_link_libraries(gdof_${name} PUBLIC ${dep_targets} ${C_PUBLIC_LIBS} PRIVATE ${C_PRIVATE_LIBS} gdof_warnings)
   set_property(GLOBAL APPEND PROPERTY GDOF_CAPABILITY_TARGETS gdof_${name})
 endfunction()

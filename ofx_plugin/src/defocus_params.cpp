@@ -1,5 +1,7 @@
 #include "defocus_params.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 namespace gdof::ofx {
@@ -21,6 +23,12 @@ std::string option(const ParamReader& r, const char* name, const std::vector<std
     const int i = r.choice(name);
     if (i < 0 || i >= int(options.size())) fail(std::string("parameter '") + name + "': option " + std::to_string(i) + " out of range");
     return options[std::size_t(i)];
+}
+
+// Index of `value` in `options` (a descriptor's default).
+int option_index(const std::vector<std::string>& options, const std::string& value) {
+    const auto it = std::find(options.begin(), options.end(), value);
+    return it == options.end() ? 0 : int(it - options.begin());
 }
 
 std::string depth_name(int i) { return "depths_" + std::to_string(i + 1); }
@@ -88,7 +96,7 @@ void describe_defocus_params(ParamDefiner& d) {
 
     d.group("grp_diffusion", "Diffusion");
     d.set_group("grp_diffusion");
-    d.choice("solver", "Solver", kSolvers, 2,
+    d.choice("solver", "Solver", kSolvers, option_index(kSolvers, def.solver),
              "auto: per layer, the faster of the two for its blur; adi: cost independent of the blur; explicit: the paper's reference");
     d.integer("adi_steps", "ADI Steps", 0, 0, 1000, "ADI sub-steps (quality); 0: automatic");
     d.integer("layers", "Layers", 0, 0, 1024, "Depth layers: 0 = automatic (split at depth gaps), N = N slices even in 1/depth");

@@ -40,7 +40,7 @@ struct DefocusParams {
     std::string depth_encoding = "metric";
     double depth_scale = 1, depth_near = 0.1, depth_far = 100;
     // Diffusion.
-    std::string solver = "adi";
+    std::string solver = to_string(DiffusionOptions{}.solver);  // the library's default (auto)
     int adi_steps = 0;
     int layers = 0;                 // 0: auto
     bool cut_by_blur = false;       // auto layers also cut by blur (auto:blur)

@@ -1,20 +1,22 @@
 // "gdof Focal Stack": method 2 (gdof/compositing.h). Each output pixel is
 // pulled from the reference of a focus/aperture stack whose [near, far] best
-// matches the desired one: the same select_references / composite_stack calls
-// as `gdof --composite`. The stack is the frames of the Source clip (lens per
-// frame from the lens table or a manifest) or the files of a manifest; the
-// desired near/far come from B-spline control points, a surfaces file or the
-// Near / Far clips.
+// matches the desired one: the same composite() as `gdof --composite`, written
+// straight into the host's output image. The stack is the frames of the
+// Source clip (lens per frame from the lens table or a manifest; their pixels
+// read in place, stack_pixels.h) or the files of a manifest; the desired
+// near/far come from B-spline control points, a surfaces file or the Near /
+// Far clips.
 #include <algorithm>
-#include <fstream>
+#include <limits>
 #include <memory>
-#include <sstream>
+#include <string>
 
 #include "effects.h"
 #include "focal_stack_params.h"
 #include "gdof/compositing.h"
 #include "gdof/io/stack_reader.h"
 #include "gdof/io/stack_sources.h"
+#include "gdof/text_file.h"
 #include "ofx_clips.h"
 #include "ofx_params.h"
 #include "stack_pixels.h"
@@ -47,14 +49,6 @@ Exec render_exec(OfxImageEffectHandle fx) {
     if (suites().thread && suites().thread->multiThreadNumCPUs(&n) == kOfxStatOK) e.nthreads = int(n);
     e.cancelled = [fx] { return suites().effect->abort(fx) != 0; };
     return e;
-}
-
-std::string read_file(const std::string& param, const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("parameter '" + param + "': cannot open '" + path + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 // A files stack, opened.
@@ -162,9 +156,9 @@ public:
         if (!out.valid()) fail("the host gave no output image");
         out.require({kOfxImageComponentRGBA, kOfxImageComponentRGB});
         const Exec exec = render_exec(fx);
-        Image res = p.stack_source == "files" ? render_files(fx, p, f, a, exec) : render_frames(fx, p, f, a, exec);
-        if (exec.is_cancelled()) return;
-        write_rgba(res, f, out, a.window);
+        const ImageView target = out.view(f, a.window);  // composite() writes the host's pixels
+        if (p.stack_source == "files") render_files(fx, p, f, a, target, exec);
+        else render_frames(fx, p, f, a, target, exec);
     }
 
 private:
@@ -182,11 +176,12 @@ private:
         return u;
     }
 
-    // Desired near/far over a grid of w x h pixels (the grid's gdof window for maps).
-    static DesiredFocus desired(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, double time,
-                                const Roi& grid, const Exec& exec) {
+    // The source of the desired near/far over the stack's grid (gdof
+    // coordinates): Near / Far maps are copied into `maps` (one channel, NaN
+    // outside the host's image).
+    static FocusSource focus_source(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, double time,
+                                    const Roi& grid, Image (&maps)[2]) {
         if (p.focus_source == "maps") {
-            Image maps[2];
             const char* names[2] = {kNear, kFar};
             for (int i = 0; i < 2; ++i) {
                 const Clip clip(fx, names[i]);
@@ -202,90 +197,67 @@ private:
                 maps[i] = Image::with_channels({"depth"}, grid);
                 read_components(img, f, maps[i], {{comp, 0}}, std::numeric_limits<float>::quiet_NaN());
             }
-            auto d = desired_from_maps(maps[0], 0, maps[1], 0);
-            if (!d) fail("Near / Far maps: " + d.message());
-            return std::move(d).value();
+            return FocusMaps{&maps[0], 0, &maps[1], 0};
         }
         if (p.focus_source == "surfaces_file" && p.surfaces.empty()) fail("parameter 'surfaces': give a surfaces file");
-        const std::string text = p.focus_source == "surfaces" ? surfaces_json(p) : read_file("surfaces", p.surfaces);
+        std::string text;
+        if (p.focus_source == "surfaces") {
+            text = surfaces_json(p);
+        } else {
+            auto r = read_text(p.surfaces);
+            if (!r) fail("parameter 'surfaces': " + r.message());
+            text = std::move(r).value();
+        }
         auto s = parse_focus_surfaces(text);
         if (!s) fail((p.focus_source == "surfaces" ? std::string("near/far control points: ") : "parameter 'surfaces': ") + s.message());
-        auto d = desired_from_surfaces(*s, grid.width(), grid.height(), exec);
-        if (!d) fail(d.message());
-        return std::move(d).value();
+        return std::move(s).value();
     }
 
-    static StackSelection select(const FocalStack& stack, const DesiredFocus& d, const CompositeOptions& cs,
-                                 const Exec& exec) {
-        std::vector<DepthInterval> limits;
-        for (const StackReference& r : stack.references) limits.push_back({r.near, r.far});
-        auto index = StackIndex::build(limits);
-        if (!index) fail("stack: " + index.message());
-        auto sel = select_references(*index, d, cs, exec);
-        if (!sel) fail(sel.message());
-        return std::move(sel).value();
+    static CompositeOptions composite_options(const FocalStackParams& p) {
+        CompositeOptions cs;
+        cs.soft_k = p.soft;
+        return cs;
     }
 
-    Image render_frames(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
-                        const Exec& exec) {
-        const FrameStack fs = open_frames(p, fx);
+    // composite()'s error (none when cancelled: the host drops the output),
+    // with the plugin's name for the input at fault (its subject).
+    static void check_composite(const Status& st, const FocalStackParams& p, const Exec& exec) {
+        if (st || exec.is_cancelled()) return;
+        const std::string& about = st.subject();
+        std::string prefix;
+        if (about == "focus" && p.focus_source == "maps") prefix = "Near / Far maps: ";
+        else if (about == "stack") prefix = "stack: ";
+        else if (about == "pixels" && p.stack_source == "files") prefix = "parameter 'manifest': ";
+        fail(prefix + st.message());
+    }
+
+    void render_frames(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
+                       const ImageView& target, const Exec& exec) {
+        FrameStack fs = open_frames(p, fx);
         const Clip src(fx, kSource);
         if (!src.connected()) fail("the Source clip is not connected (stack_source = frames)");
         const Roi grid = gdof_pixels(f, stack_rod(src, fs));
-        const Roi window = intersect(f.to_gdof(a.window), grid);
-        if (window.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
-        CompositeOptions cs;
-        cs.soft_k = p.soft;
-        const DesiredFocus whole = desired(fx, p, f, a.time, grid, exec);
-        const Roi local{window.x0 - grid.x0, window.y0 - grid.y0, window.x1 - grid.x0, window.y1 - grid.y0};
-        const StackSelection sel = select(fs.stack, crop(whole, local), cs, exec);
-
-        // Only the references some pixel chose are fetched.
-        std::vector<Image> refs(fs.frames.size());
-        const OfxRectD region = f.to_canonical(f.to_ofx(window));
-        for (int i : sel.used_references()) {
-            const ClipImage img(src, double(fs.frames[std::size_t(i)]), &region);
-            if (!img.valid())
-                fail("clip 'Source' has no image at frame " + std::to_string(fs.frames[std::size_t(i)]) + " (reference " +
-                     std::to_string(i) + ")");
-            img.require({kOfxImageComponentRGBA, kOfxImageComponentRGB});
-            refs[std::size_t(i)] = premultiplied_rgba(img, f, window);
-        }
-        std::vector<const Image*> ptrs;
-        for (Image& r : refs) {
-            if (r.data_window() != window) r = Image({}, window);  // never read
-            ptrs.push_back(&r);
-        }
-        MemoryStackPixels pixels(ptrs);
-        auto res = composite_stack(sel, pixels, cs, window.x0, window.y0, nullptr, exec);
-        if (!res && !exec.is_cancelled()) fail(res.message());
-        return res ? std::move(res).value() : Image();
+        // The references are the Source frames as the host gives them at this
+        // render scale (the grid), whatever resolution a lens manifest names.
+        fs.stack.width = fs.stack.height = 0;
+        Image maps[2];
+        const FocusSource focus = focus_source(fx, p, f, a.time, grid, maps);
+        SourceFramePixels pixels(src, fs.frames, f, grid);
+        const Status st = composite(fs.stack, focus, pixels, CompositeTarget{target}, composite_options(p), nullptr, exec);
+        pixels.rethrow_fetch_error();
+        check_composite(st, p, exec);
     }
 
-    Image render_files(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
-                       const Exec& exec) {
+    void render_files(OfxImageEffectHandle fx, const FocalStackParams& p, const PixelFrame& f, const RenderArgs& a,
+                      const ImageView& target, const Exec& exec) {
         FileStack fs = open_files(p);
-        const bool full = f.sx == 1.0 && f.sy == 1.0;
-        if (!full && p.focus_source == "maps")
+        if ((f.sx != 1.0 || f.sy != 1.0) && p.focus_source == "maps")
             fail("Near / Far maps with stack_source = files need render scale 1 (the files are full resolution)");
-        // The window at full resolution (the files' pixels).
-        const Roi ws = f.to_gdof(a.window);
-        const Roi w1 = intersect(Roi{int(std::floor(ws.x0 / f.sx)), int(std::floor(ws.y0 / f.sy)),
-                                     int(std::ceil(ws.x1 / f.sx)), int(std::ceil(ws.y1 / f.sy))},
-                                 fs.grid);
-        if (w1.empty()) return Image::with_channels({"R", "G", "B", "A"}, Roi{});
-        CompositeOptions cs;
-        cs.soft_k = p.soft;
-        const DesiredFocus whole = desired(fx, p, f, a.time, fs.grid, exec);
-        const Roi local{w1.x0 - fs.grid.x0, w1.y0 - fs.grid.y0, w1.x1 - fs.grid.x0, w1.y1 - fs.grid.y0};
-        const StackSelection sel = select(fs.stack, crop(whole, local), cs, exec);
-        ShiftedStackPixels pixels(*fs.reader, local.x0, local.y0);
-        auto res = composite_stack(sel, pixels, cs, w1.x0, w1.y0, nullptr, exec);
-        if (!res) {
-            if (exec.is_cancelled()) return Image();
-            fail("parameter 'manifest': " + res.message());
-        }
-        return full ? std::move(res).value() : reduce(*res, ws, f.sx, f.sy);
+        Image maps[2];
+        const FocusSource focus = focus_source(fx, p, f, a.time, fs.grid, maps);
+        // Below render scale 1: the full-resolution composite, reduced.
+        const CompositeTarget t{target, f.sx, f.sy};
+        check_composite(composite(fs.stack, focus, *fs.reader, t, composite_options(p), nullptr, exec), p, exec);
     }
 };
 

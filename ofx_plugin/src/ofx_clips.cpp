@@ -1,5 +1,6 @@
 #include "ofx_clips.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gdof::ofx {
@@ -76,6 +77,17 @@ void ClipImage::require(std::initializer_list<const char*> components) const {
     const long need = long(bounds_.x2 - bounds_.x1) * ncomp_ * long(sizeof(float));
     if (bounds_.y2 > bounds_.y1 + 1 && std::labs(long(rowbytes_)) < need)
         fail("clip '" + clip_ + "': row bytes " + std::to_string(rowbytes_) + " smaller than a row");
+    if (bounds_.y2 > bounds_.y1 + 1 && rowbytes_ % int(sizeof(float)) != 0)
+        fail("clip '" + clip_ + "': row bytes " + std::to_string(rowbytes_) + " not a whole number of floats");
+}
+
+ImageView ClipImage::view(const PixelFrame& f, const OfxRectI& region) const {
+    const OfxRectI r{std::max(region.x1, bounds_.x1), std::max(region.y1, bounds_.y1), std::min(region.x2, bounds_.x2),
+                     std::min(region.y2, bounds_.y2)};
+    if (r.x2 <= r.x1 || r.y2 <= r.y1) return {nullptr, ncomp_, Roi{}, 1, ncomp_, 0};
+    // gdof row top - r.y2 (the view's first) is the host's row r.y2 - 1.
+    return ImageView::interleaved(pixel(r.x1, r.y2 - 1), ncomp_, f.to_gdof(r),
+                                  -std::ptrdiff_t(rowbytes_ / int(sizeof(float))));
 }
 
 int component_count(const std::string& c) {

@@ -15,6 +15,8 @@
 
 namespace gdof::ofx {
 
+struct PixelFrame;
+
 class Clip {
 public:
     Clip(OfxImageEffectHandle effect, const char* name);
@@ -55,6 +57,11 @@ public:
                std::ptrdiff_t(x - bounds_.x1) * ncomp_;
     }
     bool contains(int x, int y) const { return x >= bounds_.x1 && x < bounds_.x2 && y >= bounds_.y1 && y < bounds_.y2; }
+    // The part of the image over `region` (OFX pixels) as a gdof view of the
+    // host's memory, no copy (float images, after require()): interleaved, in
+    // gdof coordinates, so rows run top-down and the row stride is negative
+    // for the host's bottom-up rows.
+    ImageView view(const PixelFrame& f, const OfxRectI& region) const;
     // Throws an Error naming the clip unless the image is float with one of `components`.
     void require(std::initializer_list<const char*> components) const;
 

@@ -1,42 +1,59 @@
 #include "stack_pixels.h"
 
-#include <algorithm>
-#include <cmath>
+#include <string>
 
 namespace gdof::ofx {
 
-DesiredFocus crop(const DesiredFocus& d, const Roi& window) {
-    DesiredFocus c;
-    c.window = intersect(window, d.window);
-    c.near.resize(c.npixels());
-    c.far.resize(c.npixels());
-    for (int y = c.window.y0; y < c.window.y1; ++y)
-        for (int x = c.window.x0; x < c.window.x1; ++x) {
-            c.near[c.offset(x, y)] = d.near[d.offset(x, y)];
-            c.far[c.offset(x, y)] = d.far[d.offset(x, y)];
+namespace {
+
+// A straight-alpha RGBA view premultiplied into `store` (interleaved RGBA).
+ConstImageView premultiplied_copy(const ConstImageView& v, std::vector<float>& store) {
+    const Roi& w = v.window;
+    store.assign(w.npixels() * 4, 0.0f);
+    float* p = store.data();
+    for (int y = w.y0; y < w.y1; ++y)
+        for (int x = w.x0; x < w.x1; ++x, p += 4) {
+            const float a = v.at(3, x, y);
+            for (int c = 0; c < 3; ++c) p[c] = v.at(c, x, y) * a;
+            p[3] = a;
         }
-    return c;
+    return ConstImageView::interleaved(store.data(), 4, w, std::ptrdiff_t(w.width()) * 4);
 }
 
-Image reduce(const Image& full, const Roi& target, double sx, double sy) {
-    std::vector<std::string> names;
-    for (const ChannelSpec& c : full.channels()) names.push_back(c.name);
-    Image out = Image::with_channels(names, target);
-    const Roi src = full.data_window();
-    for (int y = target.y0; y < target.y1; ++y) {
-        const int ya = std::max(src.y0, int(std::floor(y / sy + 1e-9))), yb = std::min(src.y1, int(std::ceil((y + 1) / sy - 1e-9)));
-        for (int x = target.x0; x < target.x1; ++x) {
-            const int xa = std::max(src.x0, int(std::floor(x / sx + 1e-9))), xb = std::min(src.x1, int(std::ceil((x + 1) / sx - 1e-9)));
-            const int n = std::max(0, xb - xa) * std::max(0, yb - ya);
-            for (int c = 0; c < full.nchannels(); ++c) {
-                double s = 0;
-                for (int v = ya; v < yb; ++v)
-                    for (int u = xa; u < xb; ++u) s += full.at(c, u, v);
-                out.at(c, x, y) = n ? float(s / n) : 0.0f;
-            }
+}  // namespace
+
+SourceFramePixels::SourceFramePixels(const Clip& source, std::vector<int> frames, const PixelFrame& frame,
+                                     const Roi& grid)
+    : ViewStackPixels(std::vector<ConstImageView>(frames.size()), grid),
+      source_(source),
+      frames_(std::move(frames)),
+      frame_(frame),
+      grid_(grid) {}
+
+Status SourceFramePixels::prepare(const std::vector<int>& refs, const Roi& region) {
+    const Roi abs{grid_.x0 + region.x0, grid_.y0 + region.y0, grid_.x0 + region.x1, grid_.y0 + region.y1};
+    const OfxRectI pixels = frame_.to_ofx(abs);
+    const OfxRectD canonical = frame_.to_canonical(pixels);
+    try {
+        for (int i : refs) {
+            const int frame = frames_[std::size_t(i)];
+            auto img = std::make_unique<ClipImage>(source_, double(frame), &canonical);
+            if (!img->valid())
+                fail("clip 'Source' has no image at frame " + std::to_string(frame) + " (reference " + std::to_string(i) +
+                     ")");
+            img->require({kOfxImageComponentRGBA, kOfxImageComponentRGB});
+            const ImageView host = img->view(frame_, pixels);
+            ConstImageView v{host.base, host.nchannels, host.window, host.cstride, host.xstride, host.ystride};
+            if (img->ncomponents() == 4 && img->premultiplication() == kOfxImageUnPreMultiplied)
+                v = premultiplied_copy(v, premultiplied_.emplace_back());
+            set_view(i, v);
+            images_.push_back(std::move(img));
         }
+    } catch (const std::exception& e) {
+        fetch_error_ = std::current_exception();
+        return Status::error(e.what());
     }
-    return out;
+    return Status::ok();
 }
 
 }  // namespace gdof::ofx

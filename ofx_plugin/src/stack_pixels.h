@@ -1,34 +1,41 @@
-// Small helpers for "gdof Focal Stack": a reference source shifted to a
-// sub-window of the stack (composite_stack reads tiles relative to the
-// selection's window), the desired focus cropped to that window, and an
-// area-average reduction (a full-resolution composite shown at a render scale).
+// The Source clip's frames as the references of "gdof Focal Stack"
+// (stack_source = frames), read in place from the host's images.
 #pragma once
 
+#include <exception>
+#include <memory>
+#include <vector>
+
 #include "gdof/compositing.h"
-#include "gdof/focus_surfaces.h"
-#include "gdof/image.h"
+#include "ofx_clips.h"
 
 namespace gdof::ofx {
 
-// Reads tile t of `inner` at t + (dx, dy).
-class ShiftedStackPixels final : public StackPixels {
+// prepare() (called by composite() on the render thread, once the selection
+// is known) fetches only the frames some pixel chose, over the region the
+// tiles cover, and presents each host image to the library as a view, without
+// a copy; only a straight-alpha (unpremultiplied) RGBA image is copied, to be
+// premultiplied. Images are released when this is destroyed.
+class SourceFramePixels final : public ViewStackPixels {
 public:
-    ShiftedStackPixels(StackPixels& inner, int dx, int dy) : inner_(inner), dx_(dx), dy_(dy) {}
-    int size() const override { return inner_.size(); }
-    Status read_tile(int ref, const Roi& tile, float* rgba) override {
-        return inner_.read_tile(ref, {tile.x0 + dx_, tile.y0 + dy_, tile.x1 + dx_, tile.y1 + dy_}, rgba);
+    // frames[i]: the Source frame of reference i; grid: the stack's pixels
+    // (gdof coordinates at the render scale).
+    SourceFramePixels(const Clip& source, std::vector<int> frames, const PixelFrame& frame, const Roi& grid);
+    Status prepare(const std::vector<int>& refs, const Roi& region) override;
+    // A fetch that failed in prepare() threw an Error (a missing frame, an
+    // unsupported image): thrown again here, so the plugin reports it as it was.
+    void rethrow_fetch_error() const {
+        if (fetch_error_) std::rethrow_exception(fetch_error_);
     }
 
 private:
-    StackPixels& inner_;
-    int dx_, dy_;
+    const Clip& source_;
+    std::vector<int> frames_;
+    PixelFrame frame_;
+    Roi grid_;
+    std::vector<std::unique_ptr<ClipImage>> images_;
+    std::vector<std::vector<float>> premultiplied_;  // copies of straight-alpha images
+    std::exception_ptr fetch_error_;
 };
-
-// The part of `d` over `window` (in d's coordinates, inside d.window).
-DesiredFocus crop(const DesiredFocus& d, const Roi& window);
-
-// Image over `target` (pixels at scale s) whose pixel (x, y) is the mean of
-// the pixels of `full` (scale 1) in [x / s, (x + 1) / s) x [y / s, (y + 1) / s).
-Image reduce(const Image& full, const Roi& target, double sx, double sy);
 
 }  // namespace gdof::ofx

@@ -48,7 +48,7 @@ const gdof::FocalStack& stack() {
             if (fs::exists(path)) continue;
             gdof::Image img = gdof::Image::with_channels({"R", "G", "B", "A"}, {0, 0, W, H});
             for (int c = 0; c < 4; ++c)
-                img.set_channel_type(c, gdof::PixelType::Half);
+                if (auto st = img.set_channel_type(c, gdof::PixelType::Half); !st) std::fprintf(stderr, "%s\n", st.message().c_str());
             for (int y = 0; y < H; ++y)
                 for (int x = 0; x < W; ++x) {
                     img.at(0, x, y) = float(i) / N + 0.1f * std::sin(0.05f * x + i);

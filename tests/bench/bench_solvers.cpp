@@ -1,12 +1,11 @@
 // Diffusion solver speed against the blur radius: explicit (cost ~ R^2) and
 // ADI (cost ~ its step count, clamp(8 R, 4, 64)) on a 640x360 four-plane
 // layer with a constant radius. The crossover sets DiffusionSolver::Auto's
-// threshold (kAutoExplicitMaxRadius in lib/src/diffusion.cpp).
+// threshold (kAdiStepCost in gdof/diffusion.h).
 //
 //   bench_solvers [--benchmark_...]
 #include <benchmark/benchmark.h>
 
-#include <array>
 #include <vector>
 
 #include "gdof/diffusion.h"
@@ -17,19 +16,19 @@ constexpr int W = 640, H = 360;
 
 void run_solver(benchmark::State& state, gdof::DiffusionSolver solver) {
     const float radius = float(state.range(0));
-    std::vector<float> r(std::size_t(W) * H, radius);
-    std::array<std::vector<float>, 4> planes;
-    for (int c = 0; c < 4; ++c) {
-        planes[c].resize(r.size());
-        for (std::size_t i = 0; i < r.size(); ++i) planes[c][i] = float((i * 2654435761u + c) % 1000) / 1000.0f;
-    }
-    std::array<float*, 4> ptr{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
+    const gdof::Roi window{0, 0, W, H};
+    std::vector<float> r(window.npixels(), radius);
+    std::vector<float> planes(4 * r.size());
+    for (int c = 0; c < 4; ++c)
+        for (std::size_t i = 0; i < r.size(); ++i)
+            planes[std::size_t(c) * r.size() + i] = float((i * 2654435761u + std::size_t(c)) % 1000) / 1000.0f;
     gdof::DiffusionOptions s;
     s.solver = solver;
     for (auto _ : state) {
-        auto st = gdof::diffuse_planes(ptr, W, H, r.data(), s);
+        auto st = gdof::diffuse_planes(gdof::ImageView::planar(planes.data(), 4, window),
+                                       gdof::ConstImageView::planar(r.data(), 1, window), s);
         if (!st.is_ok()) state.SkipWithError(st.message().c_str());
-        benchmark::DoNotOptimize(planes[0][0]);
+        benchmark::DoNotOptimize(planes[0]);
     }
     state.counters["explicit_iters"] = gdof::explicit_iterations(radius, s);
     state.counters["adi_steps"] = gdof::adi_steps_for(radius, s);

@@ -63,6 +63,22 @@ inline std::vector<float> read_pixels(const std::string& path, OIIO::ImageSpec* 
     return pixels;
 }
 
+// A file's first subimage as float, with its spec.
+struct Pixels {
+    OIIO::ImageSpec spec;
+    std::vector<float> values;
+    // Channel c of pixel (x, y), counted from the data window's corner.
+    float at(int x, int y, int c) const {
+        return values[(std::size_t(y) * std::size_t(spec.width) + std::size_t(x)) * std::size_t(spec.nchannels) +
+                      std::size_t(c)];
+    }
+};
+inline Pixels read_image_pixels(const std::string& path) {
+    Pixels p;
+    p.values = read_pixels(path, &p.spec);
+    return p;
+}
+
 // File names in a folder (not recursive), sorted.
 inline std::vector<std::string> list_dir(const std::string& dir) {
     std::vector<std::string> names;

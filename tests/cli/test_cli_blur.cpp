@@ -210,7 +210,7 @@ TEST(cli_blur, EvalBlurOnDeepSamples) {
                          gdof::Roi{0, 0, 4, 3}, gdof::Roi{0, 0, kFullW, kFullH});
     std::vector<std::uint32_t> counts(12);
     for (int i = 0; i < 12; ++i) counts[std::size_t(i)] = std::uint32_t(i % 3);
-    deep.set_sample_counts(counts);
+    EXPECT_TRUE(deep.set_sample_counts(counts));
     for (std::size_t p = 0; p < 12; ++p)
         for (std::uint32_t k = 0; k < deep.sample_count(p); ++k)
             deep.samples(2)[deep.first_sample(p) + k] = float(1.0 + 0.5 * k + 0.1 * double(p));

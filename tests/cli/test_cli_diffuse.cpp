@@ -7,6 +7,8 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "cli/cli_test_helpers.h"
+#include "gdof/camera.h"
+#include "gdof/io/image_io.h"
 
 using namespace gdof::test;
 
@@ -147,10 +149,33 @@ TEST(cli_diffuse, DeepInputAndAThinLensFromTheFileWithoutBlurfield) {
     std::printf("[ measured ] deep vs flat input, mean |difference| of defocused RGBA inside the frame: %.4f\n", d);
     EXPECT_LT(d, 0.03);
 
-    // No --blurfield: the camera's own lens (the file has focal length, f-number, focus distance).
+    // No --blurfield: the camera's own lens (the file has focal length,
+    // f-number, focus distance), exactly as that thin lens given as a field.
     r = run_gdof(quote(sc.flat) + " --diffuse -o " + quote(sc.dir.file("lens.exr")));
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_TRUE(fs::exists(sc.dir.file("lens.exr")));
+    auto scene_image = gdof::io::read_flat(sc.flat);
+    ASSERT_TRUE(scene_image) << scene_image.message();
+    auto camera = gdof::Camera::from_image(*scene_image);
+    ASSERT_TRUE(camera) << camera.message();
+    auto lens = camera->thin_lens();
+    ASSERT_TRUE(lens) << lens.message();
+    char json[512];
+    std::snprintf(json, sizeof json,
+                  R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": %.17g, "f_number": %.17g, )"
+                  R"("focus_distance": %.17g, "sensor_width_mm": %.17g, "scene_unit_mm": %.17g}})",
+                  lens->focal_length_mm, lens->f_number, lens->focus_distance, lens->sensor_width_mm,
+                  lens->scene_unit_mm);
+    write_text(sc.dir.file("lens.json"), json);
+    r = run_gdof(quote(sc.flat) + " --blurfield " + quote(sc.dir.file("lens.json")) + " --diffuse -o " +
+                 quote(sc.dir.file("lens_field.exr")));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    OIIO::ImageSpec in_spec, lens_spec;
+    const auto input = read_pixels(sc.flat, &in_spec);
+    const auto from_camera = read_pixels(sc.dir.file("lens.exr"), &lens_spec);
+    ASSERT_EQ(lens_spec.nchannels, in_spec.nchannels);
+    EXPECT_EQ(from_camera, read_pixels(sc.dir.file("lens_field.exr")));
+    EXPECT_GT(mean_abs_diff(from_camera, input, in_spec.nchannels, 4), 2e-4)
+        << "f/2.8 at 4.5: blurred (measured 6.5e-4)";
 }
 
 TEST(cli_diffuse, SolverLayersAdiStepsAndStats) {

@@ -3,6 +3,7 @@
 // parameters), for both effects and both contexts; unload and reload.
 #include <algorithm>
 
+#include "gdof/diffusion.h"
 #include "ofx/ofx_test_support.h"
 
 using namespace gdof::test;
@@ -140,6 +141,13 @@ TEST(ofx_describe, DefocusParametersMirrorTheBlurFieldWithJsonAndCliNames) {
     EXPECT_EQ(param(e, "kind")->strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"thin_lens", "focal_planes", "region", "image_map"}));
     EXPECT_EQ(param(e, "solver")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"adi", "explicit", "auto"}));
+    // The solver's default is the library's (DiffusionOptions: auto), as `gdof --diffuse` without --solver.
+    const std::vector<std::string> solvers = param(e, "solver")->strings(kOfxParamPropChoiceOption);
+    const int solver_default = param(e, "solver")->integer(kOfxParamPropDefault);
+    ASSERT_GE(solver_default, 0);
+    ASSERT_LT(solver_default, int(solvers.size()));
+    EXPECT_EQ(solvers[std::size_t(solver_default)], gdof::to_string(gdof::DiffusionOptions{}.solver));
+    EXPECT_EQ(solvers[std::size_t(solver_default)], "auto");
     EXPECT_EQ(param(e, "depth_encoding")->strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"metric", "inverse", "scaled", "near_far_linear", "near_far_inverse"}));
     EXPECT_EQ(param(e, "analysis")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"frame", "region"}));

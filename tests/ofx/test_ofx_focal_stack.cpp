@@ -110,6 +110,58 @@ TEST(ofx_focal_stack, SourceFramesWithLensTableEqualCliComposite) {
     EXPECT_GE(refs.size(), 3u);
 }
 
+// The Source frames are read in place (views of the host's images, rows
+// bottom-up and padded); a straight-alpha RGBA frame is premultiplied first:
+// equal, bit for bit, to the CLI on the premultiplied files.
+TEST(ofx_focal_stack, StraightAlphaFramesEqualCliOnPremultipliedFiles) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    auto alpha = [](int i, int x, int y) { return 0.25f * float((x + 2 * y + i) % 4 + 1); };
+    std::string refs;
+    f.s.fx->disconnect("Source");
+    for (int i = 0; i < N; ++i) {
+        const std::string name = "premult." + std::to_string(i + 1) + ".exr";
+        write_exr(f.dir.file(name), W, H, {"R", "G", "B", "A"}, [&](int x, int y, int c) {
+            return c == 3 ? alpha(i, x, y) : ref_value(i, x, y, c) * alpha(i, x, y);
+        });
+        refs += std::string(i ? ", " : "") + "{\"file\": \"" + name + "\", \"focus_distance\": " + std::to_string(kFocus[i]) +
+                ", \"f_number\": 2}";
+        ClipFrame straight = ref_clip(i);
+        straight.premult = kOfxImageUnPreMultiplied;
+        for (int oy = 0; oy < H; ++oy)
+            for (int x = 0; x < W; ++x) straight.at(x, oy, 3) = alpha(i, x, H - 1 - oy);
+        f.s.fx->connect("Source", straight, i + 1);
+    }
+    const std::string manifest = f.dir.file("premult.json");
+    write_text(manifest, "{\"gdof_stack\": 1, \"coc_px\": 1, \"focal_length_mm\": 100, \"sensor_width_mm\": 36, "
+                         "\"width\": 80, \"height\": 48, \"references\": [" + refs + "]}");
+    const Rendered r = f.s.fx->render(1, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const std::string out = f.dir.file("premult_cli.exr");
+    const auto cli = run_gdof("--composite " + quote(manifest) + " --surfaces " + quote(f.surfaces) + " -o " + quote(out));
+    ASSERT_EQ(cli.exit_code, 0) << cli.output;
+    EXPECT_EQ(max_diff_to_file(r, out, 4, H), 0.0);
+    EXPECT_EQ(f.s.host.live_images(), 0);
+}
+
+TEST(ofx_focal_stack, RgbSourceFramesGiveRgbEqualToCliComposite) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    f.s.fx->disconnect("Source");
+    for (int i = 0; i < N; ++i) {
+        ClipFrame rgb = ClipFrame::make(W, H, kOfxImageComponentRGB);
+        for (int oy = 0; oy < H; ++oy)
+            for (int x = 0; x < W; ++x)
+                for (int c = 0; c < 3; ++c) rgb.at(x, oy, c) = ref_value(i, x, H - 1 - oy, c);
+        f.s.fx->connect("Source", rgb, i + 1);
+    }
+    const Rendered r = f.s.fx->render(1, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    EXPECT_EQ(r.ncomp, 3);
+    EXPECT_EQ(max_diff_to_file(r, f.cli("--surfaces " + quote(f.surfaces)), 3, H), 0.0);
+    EXPECT_FALSE(r.wrote_outside);
+}
+
 TEST(ofx_focal_stack, SoftBlendEqualsCliSoft) {
     Fixture f;
     ASSERT_TRUE(f.s.ok());

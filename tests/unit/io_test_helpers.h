@@ -100,7 +100,7 @@ inline DeepImage make_deep(Roi data, Roi display, bool tiled) {
                 data, display);
     std::vector<std::uint32_t> counts(d.npixels());
     for (std::size_t i = 0; i < counts.size(); ++i) counts[i] = std::uint32_t((i * 7 + i / 7) % 6);
-    d.set_sample_counts(counts);
+    EXPECT_TRUE(d.set_sample_counts(counts));
     for (int c = 0; c < d.nchannels(); ++c)
         for (std::size_t s = 0; s < d.total_samples(); ++s) {
             if (d.channel(c).type == PixelType::UInt) d.usamples(c)[s] = 16777216u + std::uint32_t(s) * 7919u + 1u;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "gdof/blur_field.h"
@@ -37,21 +38,21 @@ Result<std::optional<std::array<int, 3>>> find_position_channels(const Image& im
 // Depth channel index, -1 if none (automatic mode); an error naming it if asked for by name.
 Result<int> find_depth_channel(const Image& img, const std::string& name);
 
-// Evaluates B over the data window of `img` into `out` (npixels floats,
-// row-major over the data window): from the position channels if found,
-// else from depth + camera at the pixel centres. A sky pixel -- position not
-// finite and depth +inf (a render under a lit environment: P = NaN,
-// Z = +inf) -- takes B at infinite depth when the image also has a depth
-// channel. Error if neither exists
-// (naming the channels looked for). Parallel over rows; result independent
-// of the thread count.
+// Evaluates B over the data window of `img` into `out` (one channel over
+// exactly that window, any strides: Image::channel_view of an output channel,
+// a planar view of a buffer; an error naming both shapes otherwise): from the
+// position channels if found, else from depth + camera at the pixel centres.
+// A sky pixel -- position not finite and depth +inf (a render under a lit
+// environment: P = NaN, Z = +inf) -- takes B at infinite depth when the image
+// also has a depth channel. Error if neither exists (naming the channels
+// looked for). Parallel over rows; result independent of the thread count.
 Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
-                         float* out, const Exec& exec = {});
+                         const ImageView& out, const Exec& exec = {});
 
 // Evaluates B for every sample of a deep image from its pixel centre and the
-// sample's depth channel (z_channel < 0: the image's Z). `out` has
-// total_samples() floats.
-Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel, float* out,
-                          const Exec& exec = {});
+// sample's depth channel (z_channel < 0: the image's Z), into `out`, one
+// value per sample in sample order (an error unless it has total_samples()).
+Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel,
+                          std::span<float> out, const Exec& exec = {});
 
 }  // namespace gdof

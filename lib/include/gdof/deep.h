@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gdof/image.h"
+#include "gdof/status.h"
 
 namespace gdof {
 
@@ -23,7 +24,8 @@ public:
     int channel_index(std::string_view name) const;
     int z_channel() const;       // "Z" (or "*.Z"), -1 if absent
     int zback_channel() const;   // "ZBack", -1 if absent
-    void set_channel_type(int c, PixelType t);  // Half <-> Float only
+    // Half <-> Float only (an error naming the channel otherwise; nothing changes).
+    Status set_channel_type(int c, PixelType t);
     // Adds a zero-filled sample channel and returns its index.
     int add_channel(ChannelSpec spec);
 
@@ -35,8 +37,9 @@ public:
         return std::size_t(y - data_.y0) * std::size_t(data_.width()) + std::size_t(x - data_.x0);
     }
 
-    // Sets every pixel's sample count (size npixels()) and allocates zeroed samples.
-    void set_sample_counts(const std::vector<std::uint32_t>& counts);
+    // Sets every pixel's sample count and allocates zeroed samples. An error
+    // (nothing changes) unless there is one count per pixel (npixels()).
+    Status set_sample_counts(const std::vector<std::uint32_t>& counts);
     std::uint32_t sample_count(std::size_t pixel) const { return counts_[pixel]; }
     std::size_t first_sample(std::size_t pixel) const { return offsets_[pixel]; }
     std::size_t total_samples() const { return offsets_.empty() ? 0 : offsets_.back(); }
@@ -54,6 +57,8 @@ public:
     StorageHints storage;
 
 private:
+    void allocate_samples(const std::vector<std::uint32_t>& counts);
+
     std::vector<ChannelSpec> channels_;
     Roi data_, display_;
     std::vector<std::uint32_t> counts_;

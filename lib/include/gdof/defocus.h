@@ -37,8 +37,8 @@ struct DefocusOptions {
     // opaque edges (as an edge-clamped blur would). (So the result lies within
     // defocus_output_region(input data window, display, largest blur).)
     // A sub-region equals the crop of the whole result to within 1e-4 of the
-    // image's peak value (measured: about 1e-5, from the insulated boundary of
-    // the cropped work regions).
+    // image's peak value; the one difference is the insulated boundary of the
+    // cropped work regions (docs/diffusion.md, "Sub-regions", has the figure).
     Roi roi;
 };
 

@@ -14,9 +14,9 @@
 #pragma once
 
 #include <cmath>
-#include <span>
 
 #include "gdof/exec.h"
+#include "gdof/image.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -53,9 +53,8 @@ int explicit_iterations(double max_radius_px, const DiffusionOptions& settings);
 // Number of ADI sub-steps used for a largest radius.
 int adi_steps_for(double max_radius_px, const DiffusionOptions& settings);
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
-// iterations, measured by tests/bench/bench_solvers (2.0 on a quiet 2-core
-// Xeon at 640x360, 2.5 on the same machine under load: both scale with the
-// pixel count, so the ratio holds at any size).
+// iterations; both scale with the pixel count, so the ratio holds at any
+// size. Measured by tests/bench/bench_solvers (docs/diffusion.md, "auto").
 inline constexpr double kAdiStepCost = 2.0;
 // The solver that runs for a largest radius: settings.solver unless it is
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
@@ -63,18 +62,22 @@ inline constexpr double kAdiStepCost = 2.0;
 // Gaussian within 1% relative L2, so the choice only changes the run time.
 DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings);
 
-// Diffuses `planes` (each width*height floats, row-major, stride = width) in
-// place, with the per-pixel blur radius map `radius` (same layout). NaN or
-// negative radii are errors naming the first bad pixel; Inf is an error too.
-// Pixels with radius 0 everywhere leave the planes bit-identical. Results do
-// not depend on exec.nthreads. Auto is resolved by the map's largest radius.
-Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
-                      const DiffusionOptions& settings, const Exec& exec = {});
+// Diffuses the channels of `planes` in place over its window, with the
+// per-pixel blur radius map `radius` (one channel over the same window; an
+// error naming both shapes otherwise). Any strides: planar buffers and
+// Image::channels_view() are used as they are, other layouts through an exact copy.
+// NaN or negative radii are errors naming the first bad pixel (relative to
+// the window's origin); Inf is an error too. Radius 0 everywhere leaves the
+// planes bit-identical. Results do not depend on exec.nthreads. Auto is
+// resolved by the map's largest radius.
+Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, const DiffusionOptions& settings,
+                      const Exec& exec = {});
 
-// The two solvers, on diffusivities (D per pixel, already validated).
-Status diffuse_explicit(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                        const DiffusionOptions& settings, const Exec& exec);
-Status diffuse_adi(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                   const DiffusionOptions& settings, const Exec& exec);
+// The two solvers, on diffusivities (D per pixel, one channel over the
+// planes' window, already validated: finite and >= 0).
+Status diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                        const Exec& exec = {});
+Status diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                   const Exec& exec = {});
 
 }  // namespace gdof

@@ -3,16 +3,17 @@
 // and to extend a background layer's colour behind the foreground.
 #pragma once
 
-#include <span>
+#include "gdof/image.h"
 
 namespace gdof {
 
-// `planes` (each width*height floats, row-major) hold values where
-// weight > 0. Every pixel whose weight is 0 gets a smooth, weighted
-// extrapolation of the known pixels (nearer known pixels count more); pixels
-// with weight > 0 keep their values bit for bit. Weights are clamped to
-// [0, 1]. Returns false (and changes nothing) when no pixel has weight.
-// Deterministic; cost O(width * height * planes).
-bool push_pull_fill(std::span<float* const> planes, const float* weight, int width, int height);
+// `planes` (any number of channels) hold values where `weight` (one channel
+// over the same window) > 0. Every pixel whose weight is 0 gets a smooth,
+// weighted extrapolation of the known pixels (nearer known pixels count
+// more); pixels with weight > 0 keep their values bit for bit. Weights are
+// clamped to [0, 1]. Returns false (and changes nothing) when no pixel has
+// weight, when there are no planes or pixels, and when `weight` is not one
+// channel over the planes' window. Deterministic; cost O(pixels * planes).
+bool push_pull_fill(const ImageView& planes, const ConstImageView& weight);
 
 }  // namespace gdof

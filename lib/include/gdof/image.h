@@ -9,9 +9,11 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "gdof/metadata.h"
+#include "gdof/status.h"
 
 namespace gdof {
 
@@ -54,7 +56,9 @@ struct StorageHints {
 // Strided non-owning view: the value of channel c at absolute pixel (x, y) is
 // base[c * cstride + (x - window.x0) * xstride + (y - window.y0) * ystride].
 // Planar images and interleaved host buffers (negative ystride for bottom-up
-// rows) are both expressible.
+// rows) are both expressible. The library's pixel arguments and output
+// buffers are views; a function taking one checks its shape (channels,
+// window) and fails with an error naming both when it is not the expected one.
 template <class T>
 struct BasicImageView {
     T* base = nullptr;
@@ -62,11 +66,43 @@ struct BasicImageView {
     Roi window;
     std::ptrdiff_t cstride = 0, xstride = 0, ystride = 0;  // in elements
 
+    // A view of mutable pixels is also a read-only view of them.
+    operator BasicImageView<const T>() const
+        requires(!std::is_const_v<T>)
+    {
+        return {base, nchannels, window, cstride, xstride, ystride};
+    }
+
     T& at(int c, int x, int y) const {
         return base[c * cstride + std::ptrdiff_t(x - window.x0) * xstride +
                     std::ptrdiff_t(y - window.y0) * ystride];
     }
     bool valid() const { return base != nullptr || window.empty(); }
+    int width() const { return window.width(); }
+    int height() const { return window.height(); }
+    std::size_t npixels() const { return window.npixels(); }
+    // Whether every channel is a row-major plane over the window (x stride 1,
+    // row stride = width): the layout kernels address as plane(c)[y * width + x].
+    bool row_major() const { return window.empty() || (xstride == 1 && ystride == window.width()); }
+    // Channel c's value at the window's origin (its plane, when row_major()).
+    T* plane(int c) const { return base + c * cstride; }
+
+    // Channels [first, first + count) of this view.
+    BasicImageView channels(int first, int count) const {
+        return {base + first * cstride, count, window, cstride, xstride, ystride};
+    }
+    // The part of this view over `sub`, clipped to the window.
+    BasicImageView cropped(const Roi& sub) const {
+        const Roi r = intersect(window, sub);
+        if (r.empty()) return {base, nchannels, r, cstride, xstride, ystride};
+        return {&at(0, r.x0, r.y0), nchannels, r, cstride, xstride, ystride};
+    }
+
+    // `nchannels` row-major planes over `window`, back to back from `base`
+    // (a std::vector of nchannels * window.npixels() values, say).
+    static BasicImageView planar(T* base, int nchannels, Roi window) {
+        return {base, nchannels, window, std::ptrdiff_t(window.npixels()), 1, std::ptrdiff_t(window.width())};
+    }
     // Interleaved buffer (e.g. OFX RGBA float): rowbytes may be negative.
     static BasicImageView interleaved(T* base, int nchannels, Roi window, std::ptrdiff_t row_stride_elems) {
         return {base, nchannels, window, 1, nchannels, row_stride_elems};
@@ -87,7 +123,9 @@ public:
     int nchannels() const { return int(channels_.size()); }
     const std::vector<ChannelSpec>& channels() const { return channels_; }
     const ChannelSpec& channel(int c) const { return channels_[std::size_t(c)]; }
-    void set_channel_type(int c, PixelType t);  // Half <-> Float only; UInt is fixed
+    // Half <-> Float only: a UInt channel stays UInt and a float one float
+    // (an error naming the channel otherwise; nothing changes).
+    Status set_channel_type(int c, PixelType t);
     void rename_channel(int c, std::string name) { channels_[std::size_t(c)].name = std::move(name); }
     int channel_index(std::string_view name) const;  // -1 if absent
     // Adds a channel (zero-filled) and returns its index.
@@ -101,10 +139,13 @@ public:
     int height() const { return data_.height(); }
     std::size_t npixels() const { return data_.npixels(); }
 
-    // Planes are row-major over the data window, row stride = width().
-    // plane() is for Half/Float channels (nullptr for UInt); uplane() for UInt.
-    float* plane(int c) { return fplanes_[std::size_t(c)].empty() ? nullptr : fplanes_[std::size_t(c)].data(); }
-    const float* plane(int c) const { return fplanes_[std::size_t(c)].empty() ? nullptr : fplanes_[std::size_t(c)].data(); }
+    // Planes are row-major over the data window, row stride = width(); the
+    // float planes lie back to back in channel order, so channels_view() spans them.
+    // plane() is for Half/Float channels (nullptr for UInt, and for an empty
+    // window); uplane() for UInt. add_channel / remove_channel move the float
+    // planes: take plane pointers after them.
+    float* plane(int c) { return float_plane(c) < 0 ? nullptr : fdata_.data() + plane_offset(c); }
+    const float* plane(int c) const { return float_plane(c) < 0 ? nullptr : fdata_.data() + plane_offset(c); }
     std::uint32_t* uplane(int c) { return uplanes_[std::size_t(c)].empty() ? nullptr : uplanes_[std::size_t(c)].data(); }
     const std::uint32_t* uplane(int c) const { return uplanes_[std::size_t(c)].empty() ? nullptr : uplanes_[std::size_t(c)].data(); }
 
@@ -112,14 +153,20 @@ public:
         return std::size_t(y - data_.y0) * std::size_t(width()) + std::size_t(x - data_.x0);
     }
     // Absolute coordinates; must lie in the data window. Float channels only.
-    float& at(int c, int x, int y) { return fplanes_[std::size_t(c)][offset(x, y)]; }
-    float at(int c, int x, int y) const { return fplanes_[std::size_t(c)][offset(x, y)]; }
+    float& at(int c, int x, int y) { return fdata_[plane_offset(c) + offset(x, y)]; }
+    float at(int c, int x, int y) const { return fdata_[plane_offset(c) + offset(x, y)]; }
     // Value as float for any channel type (UInt converted), 0 outside the data window.
     float sample(int c, int x, int y) const;
 
     // Strided view of one float channel over the data window.
     ConstImageView channel_view(int c) const;
     ImageView channel_view(int c);
+    // All channels as one view over the data window (channel c of the view
+    // is channel c of the image). Needs every channel to be Half/Float: with
+    // a UInt channel the view has no pixels (base nullptr, !valid() unless
+    // the window is empty).
+    ConstImageView channels_view() const;
+    ImageView channels_view();
 
     Metadata metadata;
     std::string name;  // EXR part name, kept on write
@@ -127,10 +174,18 @@ public:
     StorageHints storage;
 
 private:
+    // Index of channel c's plane among the float planes, -1 for UInt or an
+    // empty window (nothing allocated).
+    int float_plane(int c) const { return npixels() == 0 ? -1 : fplane_of_[std::size_t(c)]; }
+    std::size_t plane_offset(int c) const { return std::size_t(fplane_of_[std::size_t(c)]) * npixels(); }
+    int float_channel_count() const;
+    void number_float_planes();
+
     std::vector<ChannelSpec> channels_;
     Roi data_, display_;
-    std::vector<std::vector<float>> fplanes_;
-    std::vector<std::vector<std::uint32_t>> uplanes_;
+    std::vector<float> fdata_;                         // the float planes, back to back
+    std::vector<int> fplane_of_;                       // per channel: its float plane, -1 for UInt
+    std::vector<std::vector<std::uint32_t>> uplanes_;  // per channel: its UInt plane (empty for float)
 };
 
 // Helpers for the usual channel sets.

@@ -96,10 +96,10 @@ Result<LayerSplit> parse_layer_split(const std::string& text);
 // nearest. For depth splits, compositing all layers with composite_layers
 // equals flatten_deep up to float rounding (the layers partition the sorted
 // samples); for ById only when ids do not interleave in depth.
-// `sample_radius` (optional: empty, or one blur radius per deep sample in
-// sample order) drives Auto's blur cuts.
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec = {},
-                                            std::span<const float> sample_radius = {});
+// `sample_radius` (optional, like SliceOptions::radius: empty, or one blur
+// radius per deep sample in sample order) drives Auto's blur cuts.
+Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
+                                            std::span<const float> sample_radius = {}, const Exec& exec = {});
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -115,7 +115,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
 // Deep parts become layers through layers_from_deep (Auto split). Names:
 // part name, "part.prefix", or the prefix for unnamed parts. No layer at
 // all is an error that says what was looked for.
-Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source);
+Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec = {});
 
 // Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
@@ -185,12 +185,13 @@ Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame,
 // Samples are sorted by Z first; same sample rules and errors as
 // layers_from_deep. RGBA equals OIIO's ImageBufAlgo::flatten on sorted
 // files (OIIO's Z is an alpha-composited depth instead, 1e30 where empty).
-Result<Image> flatten_deep(const DeepImage& deep);
+Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec = {});
 
 // Composites layers (front = index 0) back to front with `over` into an
 // image of float R, G, B, A over `window` (absolute pixels; display window:
 // the first layer's, else `window`); layers may have any data windows,
-// inside or outside it. Null entries are skipped; a layer without A is opaque.
-Image composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window);
+// inside or outside it. Null entries are skipped; a layer without A is
+// opaque. Parallel over rows; the only error is cancellation.
+Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec = {});
 
 }  // namespace gdof

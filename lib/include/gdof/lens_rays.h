@@ -1,5 +1,6 @@
-// Method 1 camera side: aperture sampling and the nonlinear (polyline) lens
-// rays of a blur field (see docs/raytrace.md, "Camera").
+// Method 1 camera side: aperture sampling, the nonlinear (polyline) lens rays
+// of a blur field, and the camera a renderer traces (RenderCamera: pixel +
+// sample -> ray; see docs/raytrace.md, "Camera").
 //
 // Per pixel, the blur field B is sampled once along the pixel's central ray
 // and turned into a signed cone radius rho(z) in world units:
@@ -19,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -52,6 +54,25 @@ std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed);
 Vec2 unit_square_sample(std::uint64_t pixel_seed, std::uint32_t index);
 // Samples [first, first + out.size()) of the pixel's sequence.
 void unit_square_samples(std::uint64_t pixel_seed, std::uint32_t first, std::span<Vec2> out);
+
+// One sample of a pixel, as a camera turns it into a ray (pbrt's CameraSample).
+struct CameraSample {
+    Vec2 pixel_offset;  // from the pixel centre in pixel coordinates (y down): [-0.5, 0.5)^2; (0, 0) unjittered
+    Vec2 aperture;      // in [0, 1)^2; the camera maps it into its aperture
+};
+
+// A pixel's camera samples: sample i depends only on (x, y, global_seed, i).
+// The aperture sample is unit_square_sample(pixel_seed(x, y, global_seed), i);
+// the jitter (when asked for) is a second, independent sequence of the pixel.
+class PixelSampler {
+public:
+    PixelSampler(int x, int y, std::uint64_t global_seed, bool jitter);
+    CameraSample sample(std::uint32_t index) const;
+
+private:
+    std::uint64_t seed_, jitter_seed_;
+    bool jitter_;
+};
 
 // ---------------------------------------------------------------------------
 // Aperture shapes
@@ -117,6 +138,12 @@ struct PolylineRay {
     Vec3 far_direction;
 
     std::size_t segments() const { return points.size(); }  // incl. the infinite last one
+    // A straight ray: one vertex (its origin, depth 0), then its direction.
+    void set_straight(const CameraRay& r) {
+        points.assign(1, r.origin);
+        depth.assign(1, 0.0);
+        far_direction = r.direction;
+    }
 };
 
 struct NonlinearCameraOptions {
@@ -177,6 +204,12 @@ public:
     void ray_from_unit(const PixelCone& cone, Vec2 unit_sample, PolylineRay& out) const {
         ray(cone, shape_.map(unit_sample), out);
     }
+    // The ray of one camera sample of the cone's pixel (pbrt's GenerateRay):
+    // ray_from_unit(sample.aperture), every vertex then moved by the pixel
+    // offset at its depth (offset * footprint(depth): the cone of the offset
+    // position, exact for a depth-only field). A pinhole cone gives the
+    // central ray of the offset position (Camera::central_ray, bit for bit).
+    void generate_ray(const PixelCone& cone, const CameraSample& sample, PolylineRay& out) const;
     // Lazy alternative to ray() for tracers that stop at the first hit: the
     // world offset of an aperture sample, then vertex i (depth cone.depth[i])
     // = cone.line.at(depth) + offset * rho[i] (exactly line.at(depth) where
@@ -231,5 +264,47 @@ CameraRay thin_lens_ray(const Camera& camera, double px, double py, double lens_
 double thin_lens_equivalent_radius(const ThinLens& lens);
 // f / (2 N) in scene units (the textbook / pbrt aperture radius).
 double thin_lens_aperture_radius(const ThinLens& lens);
+
+// ---------------------------------------------------------------------------
+// The camera a renderer traces
+// ---------------------------------------------------------------------------
+
+// One of the three cameras of method 1 behind one interface: per pixel
+// prepare_pixel, then generate_ray per camera sample. Copyable, immutable,
+// thread-safe; every ray depends only on (pixel, sample).
+class RenderCamera {
+public:
+    enum class Kind {
+        Pinhole,           // Camera::central_ray of the sample's position
+        StraightThinLens,  // thin_lens_ray (aperture: concentric_disc)
+        Polyline,          // NonlinearCamera::generate_ray
+    };
+    static RenderCamera pinhole(const Camera& camera);
+    static RenderCamera straight_thin_lens(const Camera& camera, double lens_radius, double focus_depth);
+    // A depth-only field's cone is prepared here, once, at the centre of the
+    // display window's first pixel; errors: the field cannot be sampled there.
+    static Result<RenderCamera> polyline(const NonlinearCamera& camera);
+
+    Kind kind() const { return kind_; }
+    const Camera& camera() const { return camera_; }
+
+    // Readies `cone` (its buffers are reused from pixel to pixel) for the pixel
+    // at (px, py) (pixel (i, j): i + 0.5, j + 0.5). Polyline: the cone of the
+    // pixel (NonlinearCamera::prepare, or the shared cone of a depth-only field
+    // moved there); the other kinds only set cone.px, cone.py. Errors: the
+    // blur field cannot be sampled along the pixel's ray.
+    Status prepare_pixel(double px, double py, PixelCone& cone) const;
+    // The ray to trace for one sample of the prepared pixel; a straight ray is
+    // a single vertex (its origin) and far_direction. `out`'s buffers are reused.
+    void generate_ray(const PixelCone& cone, const CameraSample& sample, PolylineRay& out) const;
+
+private:
+    RenderCamera(Kind kind, const Camera& camera) : kind_(kind), camera_(camera) {}
+    Kind kind_;
+    Camera camera_;
+    double lens_radius_ = 0, focus_depth_ = 0;   // StraightThinLens
+    std::optional<NonlinearCamera> nonlinear_;   // Polyline
+    std::optional<PixelCone> shared_cone_;       // Polyline of a depth-only field
+};
 
 }  // namespace gdof

@@ -3,11 +3,12 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <span>
 #include <vector>
 
 #include "gdof/image_ops.h"
+#include "image/row_major_planes.h"
+#include "image/view_shape.h"
 
 namespace gdof {
 
@@ -29,27 +30,17 @@ std::optional<std::array<int, 3>> find_xyz(const Image& img, const std::string& 
     return std::nullopt;
 }
 
-// Runs row(y, status&) over the rows in parallel; the first error wins.
+// Runs row(y) over the rows in parallel (parallel_run: the error returned is
+// that of the lowest failing row, whatever the thread count); progress per row.
 Status for_rows(const Exec& exec, int height, const std::function<Status(long)>& row) {
     std::atomic<long> done{0};
-    std::mutex mu;
-    Status first;
-    bool failed = false;
-    const bool finished = parallel_for(exec, height, [&](long y0, long y1) {
+    return parallel_run(exec, height, [&](long y0, long y1) -> Status {
         for (long y = y0; y < y1; ++y) {
-            Status st = row(y);
-            if (!st) {
-                std::lock_guard<std::mutex> lock(mu);
-                if (!failed) first = st;
-                failed = true;
-                return;
-            }
+            if (Status st = row(y); !st) return st;
             exec.report(double(++done) / double(height));
         }
+        return Status::ok();
     });
-    if (failed) return first;
-    if (!finished) return Status::cancelled();
-    return Status::ok();
 }
 
 }  // namespace
@@ -98,8 +89,9 @@ Result<int> find_depth_channel(const Image& img, const std::string& name) {
     return -1;
 }
 
-Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
-                         float* out, const Exec& exec) {
+// evaluate_blur_map into a row-major plane over the data window.
+static Status blur_map_into(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
+                            float* out, const Exec& exec) {
     auto pos = find_position_channels(img, source.position_channels);
     if (!pos) return pos.status();
     int zc = -1;
@@ -159,8 +151,9 @@ Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Ima
     });
 }
 
-Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel, float* out,
-                          const Exec& exec) {
+// evaluate_blur_deep into total_samples() floats.
+static Status blur_deep_into(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel, float* out,
+                             const Exec& exec) {
     const int zc = z_channel >= 0 ? z_channel : img.z_channel();
     if (zc < 0 || zc >= img.nchannels() || img.channel(zc).type == PixelType::UInt)
         return Status::error("deep image has no float depth channel 'Z'");
@@ -182,6 +175,24 @@ Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const De
         }
         return field.evaluate(camera, std::span<const PixelDepth>(samples), std::span<float>(out + first, last - first));
     });
+}
+
+Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
+                         const ImageView& out, const Exec& exec) {
+    if (Status st = image_detail::check_view_shape(out, 1, img.data_window(), "blur map output"); !st) return st;
+    const image_detail::RowMajorPlanes<float> plane(out);
+    Status st = blur_map_into(field, camera, img, source, img.data_window().empty() ? nullptr : plane.plane(0), exec);
+    plane.store();
+    return st;
+}
+
+Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel,
+                          std::span<float> out, const Exec& exec) {
+    if (out.size() != img.total_samples())
+        return Status::error("deep blur output has " + std::to_string(out.size()) + " values; expected one per sample (" +
+                                 std::to_string(img.total_samples()) + ")",
+                             StatusCode::InvalidArgument);
+    return blur_deep_into(field, camera, img, z_channel, out.data(), exec);
 }
 
 }  // namespace gdof

@@ -23,4 +23,10 @@ Result<std::string> read_text(const std::string& path) {
     return ss.str();
 }
 
+Result<std::string> read_text(const std::string& path, const std::string& what) {
+    Result<std::string> text = read_text(path);
+    if (!text) return Status::error(what + " " + text.message(), text.status().code(), text.status().subject());
+    return text;
+}
+
 }  // namespace gdof

@@ -61,7 +61,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
     out.work = work;
-    for (auto& p : out.rgba) p.assign(n, 0.0f);
+    out.rgba = Image::with_channels({"R", "G", "B", "A"}, work);
     if (n == 0) return Status::ok();
     const Roi overlap = intersect(win, work);
 
@@ -69,7 +69,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     // filled by push-pull; then cropped to the work region.
     auto t0 = std::chrono::steady_clock::now();
     const Roi ext = unite(extrapolation, work);
-    const int EW = ext.width(), EH = ext.height();
+    const int EW = ext.width();
     std::vector<float> full(ext.npixels(), 0.0f), weight(ext.npixels(), 0.0f);
     const Roi known_area = intersect(win, ext);
     for (int y = known_area.y0; y < known_area.y1; ++y)
@@ -82,8 +82,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                 full[dst] = analysis.radius[src];
             }
         }
-    float* fp = full.data();
-    if (!push_pull_fill(std::span<float* const>(&fp, 1), weight.data(), EW, EH)) {
+    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext))) {
         // No known radius at all: use the layer's largest.
         std::fill(full.begin(), full.end(), float(analysis.max_radius));
     }
@@ -100,7 +99,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     const int src_c[4] = {analysis.rgba.r, analysis.rgba.g, analysis.rgba.b, analysis.rgba.a};
     for (int c = 0; c < 4; ++c) {
         const float* src = img.plane(src_c[c]);
-        float* dst = out.rgba[std::size_t(c)].data();
+        float* dst = out.rgba.plane(c);
         for (int y = overlap.y0; y < overlap.y1; ++y) {
             const float* s = src + img.offset(overlap.x0, y);
             float* d = dst + std::size_t(y - work.y0) * std::size_t(W) + std::size_t(overlap.x0 - work.x0);
@@ -111,8 +110,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     t0 = std::chrono::steady_clock::now();
     const DiffusionOptions s = layer_solver_settings(settings, analysis.max_radius, radius);
     ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
-    std::array<float*, 4> planes{out.rgba[0].data(), out.rgba[1].data(), out.rgba[2].data(), out.rgba[3].data()};
-    Status st = diffuse_planes(planes, W, H, radius.data(), s, exec);
+    Status st = diffuse_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), s, exec);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     return Status::ok();

@@ -10,10 +10,12 @@
 //   one flat part with R, G, B(, A) and
 //   a depth channel                     -> layers_from_depth_map, extended by
 //                                          the largest blur radius of the image
+#include <array>
 #include <chrono>
+#include <limits>
 #include <cstdlib>
 #include <cmath>
-#include <limits>
+#include <optional>
 #include <set>
 
 #include "diffusion/defocus_internal.h"
@@ -53,7 +55,6 @@ std::string channel_list(const Image& img) {
     return s.empty() ? std::string("none") : s;
 }
 
-// Largest finite blur radius of a flat image (P, or depth + camera per `source`).
 // The largest finite value (0 if none).
 double largest_finite(const std::vector<float>& r) {
     double m = 0.0;
@@ -62,22 +63,103 @@ double largest_finite(const std::vector<float>& r) {
     return m;
 }
 
-// Copies channel `c` of src onto dst (same channel spec added), over the
-// overlap of the windows; zero elsewhere.
-void carry_channel(const Image& src, int c, Image& dst) {
-    const int dc = dst.add_channel(src.channel(c));
-    const Roi ov = intersect(src.data_window(), dst.data_window());
-    for (int y = ov.y0; y < ov.y1; ++y) {
-        if (src.channel(c).type == PixelType::UInt) {
-            const std::uint32_t* s = src.uplane(c) + src.offset(ov.x0, y);
-            std::copy(s, s + ov.width(), dst.uplane(dc) + dst.offset(ov.x0, y));
-        } else {
-            const float* s = src.plane(c) + src.offset(ov.x0, y);
-            std::copy(s, s + ov.width(), dst.plane(dc) + dst.offset(ov.x0, y));
-        }
-    }
+// Which path an input takes (see the top of the file).
+enum class InputKind { Deep, Parts, DepthMap };
+
+struct InputChoice {
+    InputKind kind = InputKind::DepthMap;
+    int deep_part = -1;  // Deep: the first deep part
+};
+
+InputChoice choose_input(const ImageSet& input) {
+    for (std::size_t i = 0; i < input.size(); ++i)
+        if (input.is_deep(i)) return {InputKind::Deep, int(i)};
+    if (input.size() > 1 || !rgba_groups(input.flat(0)).empty()) return {InputKind::Parts, -1};
+    return {InputKind::DepthMap, -1};
 }
 
+// What the output keeps of the input: its display window, metadata, names,
+// storage and the types of its colour channels (no alpha: as R; UInt: float).
+struct OutputReference {
+    Roi display;
+    const Metadata* metadata = nullptr;
+    std::string name, view;
+    StorageHints storage;
+    std::array<PixelType, 4> types{PixelType::Float, PixelType::Float, PixelType::Float, PixelType::Float};
+};
+
+// type_of(c) is the type of channel c ("R", "G", "B", "A") or nullopt if absent.
+template <class TypeOf>
+std::array<PixelType, 4> colour_types(TypeOf&& type_of) {
+    std::array<PixelType, 4> types{};
+    const char* names[4] = {"R", "G", "B", "A"};
+    for (int c = 0; c < 4; ++c) {
+        std::optional<PixelType> t = type_of(names[c]);
+        if (!t && c == 3) t = type_of("R");
+        const PixelType v = t.value_or(PixelType::Float);
+        types[std::size_t(c)] = v == PixelType::UInt ? PixelType::Float : v;
+    }
+    return types;
+}
+
+template <class Part>
+OutputReference reference_of(const Part& part) {
+    OutputReference ref;
+    ref.display = part.display_window();
+    ref.metadata = &part.metadata;
+    ref.name = part.name;
+    ref.view = part.view;
+    ref.storage = part.storage;
+    return ref;
+}
+
+OutputReference output_reference(const ImageSet& input, const InputChoice& choice) {
+    if (choice.kind == InputKind::Deep) {
+        const DeepImage& d = input.deep(std::size_t(choice.deep_part));
+        OutputReference ref = reference_of(d);
+        ref.types = colour_types([&](const char* n) -> std::optional<PixelType> {
+            const int c = d.channel_index(n);
+            if (c < 0) return std::nullopt;
+            return d.channel(c).type;
+        });
+        return ref;
+    }
+    const Image& flat = input.flat(0);
+    OutputReference ref = reference_of(flat);
+    const RgbaIndices fi = find_rgba(flat);
+    ref.types = colour_types([&](const char* n) -> std::optional<PixelType> {
+        const int c = n[0] == 'R' ? fi.r : n[0] == 'G' ? fi.g : n[0] == 'B' ? fi.b : fi.a;
+        if (c < 0) return std::nullopt;
+        return flat.channel(c).type;
+    });
+    return ref;
+}
+
+// A deep part -> layers_from_deep, each layer extended behind the nearer
+// layers that fully hide it.
+Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& field, const Camera& camera,
+                                       const DefocusOptions& settings, const Exec& exec) {
+    if (d.channel_index("A") < 0 || d.channel_index("R") < 0)
+        return Status::error("defocus: the deep part has no R, G, B, A channels (it has " +
+                             std::to_string(d.nchannels()) + " channels)");
+    if (d.z_channel() < 0) return Status::error("defocus: the deep part has no depth channel 'Z'");
+    // Every sample's blur: it places Auto's blur cuts and bounds the extension.
+    std::vector<float> r(d.total_samples());
+    if (Status st = evaluate_blur_deep(field, camera, d, -1, r, exec); !st) return st.prefix("defocus: blur field");
+    auto layers = layers_from_deep(d, settings.split, r, exec);  // blur_cuts Off ignores the radii
+    if (!layers) return layers.status().prefix("defocus");
+    // Deep renders keep only visible samples: extend each layer behind the
+    // nearer layers that fully hide it, as far as the largest blur can reveal
+    // (not into genuinely empty, transparent areas).
+    ExtendOptions ext;
+    ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
+    ext.occluder_alpha = 0.999f;
+    if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
+    return layers;
+}
+
+// One flat RGBA + depth part -> layers_from_depth_map, extended by the
+// largest blur radius of the image.
 // The blur radius of every pixel of a plate at its prepared depth (pixel
 // centres), and of every mixed pixel's foreground (NaN elsewhere; empty
 // without mixed pixels).
@@ -107,152 +189,149 @@ Status plate_radii(const BlurField& field, const Camera& camera, const PlateDept
     }, 8, "blur map");
 }
 
+// A plate: its depth decoded and cleaned (holes, speckles, mixed silhouette
+// pixels, plate.h), every sample's blur at its own depth, then the slices.
+Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& field, const Camera& camera,
+                                            const DefocusOptions& settings, const Exec& exec,
+                                            DepthCleanupStats& depth_stats) {
+    const RgbaIndices rgba = find_rgba(flat);
+    if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
+        return Status::error("defocus: the input has no R, G, B channels (channels: " + channel_list(flat) + ")");
+    auto pos = find_position_channels(flat, settings.source.position_channels);
+    if (!pos) return pos.status().prefix("defocus");
+    auto z = find_depth_channel(flat, settings.source.depth_channel);
+    if (!z) return z.status().prefix("defocus");
+    if (*z < 0)
+        return Status::error("defocus: the input has no depth channel '" +
+                             (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
+                             "' (channels: " + channel_list(flat) + ")",
+                             StatusCode::NotFound, "depth_channel");
+    DepthCleanupOptions cl = settings.cleanup;                     // EXP
+    if (std::getenv("GDOF_EXP_NOSPECK")) cl.remove_speckles = false;  // EXP
+    if (std::getenv("GDOF_EXP_NOMIXED")) cl.split_mixed = false;      // EXP
+    auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, cl, exec);
+    if (!pd) return pd.status().prefix("defocus");
+    depth_stats = pd->stats;
+    std::vector<float> r, rf;
+    if (Status st = plate_radii(field, camera, *pd, r, rf, exec); !st) return st.prefix("defocus: blur field");
+    SliceOptions so;
+    so.split = settings.split;
+    so.source = settings.source;
+    so.depth = &pd.value();
+    if (std::getenv("GDOF_EXP_NOCONT")) so.continue_surfaces = false;  // EXP
+    so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
+    // Continued surfaces hide the cuts, so plates are cut by blur unless told not to.
+    if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
+        so.radius = r;
+        so.fg_radius = rf;
+    }
+    auto layers = layers_from_depth_map(flat, so, exec);
+    if (!layers) return layers.status().prefix("defocus");
+    return layers;
+}
+
+// The layers of an input by its kind; errors start with "defocus: ".
+Result<std::vector<Layer>> input_layers(const ImageSet& input, const InputChoice& choice, const BlurField& field,
+                                        const Camera& camera, const DefocusOptions& settings, const Exec& exec,
+                                        DepthCleanupStats& depth_stats) {
+    switch (choice.kind) {
+        case InputKind::Deep: return deep_layers(input.deep(std::size_t(choice.deep_part)), field, camera, settings, exec);
+        case InputKind::Parts: {
+            auto layers = layers_from_parts(input, settings.source, exec);
+            if (!layers) return layers.status().prefix("defocus");
+            return layers;
+        }
+        case InputKind::DepthMap: break;
+    }
+    return depth_map_layers(input.flat(0), field, camera, settings, exec, depth_stats);
+}
+
+// The channels of a single flat input carried to the output: all but its
+// colour (R, G, B, A and the layer groups' colour) and names the output
+// already has (the first of a repeated name wins).
+std::vector<int> carried_channels(const Image& flat, const Image& rgba) {
+    const RgbaIndices ix = find_rgba(flat);
+    const std::set<std::string> groups = rgba_groups(flat);
+    std::set<std::string> taken;
+    for (const ChannelSpec& c : rgba.channels()) taken.insert(c.name);
+    std::vector<int> carried;
+    for (int c = 0; c < flat.nchannels(); ++c) {
+        if (c == ix.r || c == ix.g || c == ix.b || c == ix.a) continue;
+        if (is_group_colour(flat.channel(c).name, groups)) continue;
+        if (!taken.insert(flat.channel(c).name).second) continue;
+        carried.push_back(c);
+    }
+    return carried;
+}
+
+// Copies channel `c` of src onto channel `dc` of dst over the overlap of the
+// windows (dst is zero elsewhere).
+void carry_channel(const Image& src, int c, Image& dst, int dc) {
+    const Roi ov = intersect(src.data_window(), dst.data_window());
+    for (int y = ov.y0; y < ov.y1; ++y) {
+        if (src.channel(c).type == PixelType::UInt) {
+            const std::uint32_t* s = src.uplane(c) + src.offset(ov.x0, y);
+            std::copy(s, s + ov.width(), dst.uplane(dc) + dst.offset(ov.x0, y));
+        } else {
+            const float* s = src.plane(c) + src.offset(ov.x0, y);
+            std::copy(s, s + ov.width(), dst.plane(dc) + dst.offset(ov.x0, y));
+        }
+    }
+}
+
+// The one flat output part: the defocused R, G, B, A with the reference's
+// types, display window, metadata and names, then the channels carried from
+// `carry_from` (a single flat input; nullptr: none).
+Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* carry_from) {
+    const std::vector<int> carried = carry_from ? carried_channels(*carry_from, rgba) : std::vector<int>{};
+    Image res;
+    if (carried.empty()) {
+        res = std::move(rgba);
+        for (int c = 0; c < 4; ++c)
+            if (Status st = res.set_channel_type(c, ref.types[std::size_t(c)]); !st) return st.prefix("defocus");
+        res.set_display_window(ref.display);
+    } else {
+        std::vector<ChannelSpec> specs;
+        for (int c = 0; c < 4; ++c) specs.push_back({rgba.channel(c).name, ref.types[std::size_t(c)]});
+        for (int c : carried) specs.push_back(carry_from->channel(c));
+        res = Image(std::move(specs), rgba.data_window(), ref.display);
+        for (int c = 0; c < 4; ++c) std::copy(rgba.plane(c), rgba.plane(c) + rgba.npixels(), res.plane(c));
+        for (std::size_t k = 0; k < carried.size(); ++k) carry_channel(*carry_from, carried[k], res, 4 + int(k));
+    }
+    res.metadata = *ref.metadata;
+    res.name = ref.name;
+    res.view = ref.view;
+    res.storage = ref.storage;
+    return res;
+}
+
 }  // namespace
 
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
                          const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (input.empty()) return Status::error("defocus: the input has no image parts");
+    const InputChoice choice = choose_input(input);
+    const OutputReference ref = output_reference(input, choice);
 
-    // Which kind of input.
-    int deep_part = -1;
-    for (std::size_t i = 0; i < input.size(); ++i)
-        if (input.is_deep(i)) {
-            deep_part = int(i);
-            break;
-        }
-    const Image* flat = (deep_part < 0) ? &input.flat(0) : nullptr;
-    const bool from_parts = deep_part < 0 && (input.size() > 1 || !rgba_groups(*flat).empty());
-
-    // The reference for the output: display window, metadata, colour types.
-    Roi display;
-    const Metadata* md = nullptr;
-    PixelType types[4] = {PixelType::Float, PixelType::Float, PixelType::Float, PixelType::Float};
-    std::string name, view;
-    StorageHints storage;
-    auto colour_types = [&](auto&& type_of) {
-        const char* names[4] = {"R", "G", "B", "A"};
-        for (int c = 0; c < 4; ++c) {
-            PixelType t = PixelType::Float;
-            if (!type_of(names[c], t) && c == 3) type_of("R", t);  // no alpha: as R
-            types[c] = t == PixelType::UInt ? PixelType::Float : t;
-        }
-    };
-    if (deep_part >= 0) {
-        const DeepImage& d = input.deep(std::size_t(deep_part));
-        display = d.display_window();
-        md = &d.metadata;
-        name = d.name, view = d.view, storage = d.storage;
-        colour_types([&](const char* n, PixelType& t) {
-            const int c = d.channel_index(n);
-            if (c >= 0) t = d.channel(c).type;
-            return c >= 0;
-        });
-    } else {
-        display = flat->display_window();
-        md = &flat->metadata;
-        name = flat->name, view = flat->view, storage = flat->storage;
-        const RgbaIndices fi = find_rgba(*flat);
-        colour_types([&](const char* n, PixelType& t) {
-            const int c = n[0] == 'R' ? fi.r : n[0] == 'G' ? fi.g : n[0] == 'B' ? fi.b : fi.a;
-            if (c >= 0) t = flat->channel(c).type;
-            return c >= 0;
-        });
-    }
-
-    // Layers.
     const auto t0 = std::chrono::steady_clock::now();
-    PlateDepth plate_depth;
-    Result<std::vector<Layer>> layers = std::vector<Layer>{};
-    if (deep_part >= 0) {
-        const DeepImage& d = input.deep(std::size_t(deep_part));
-        if (d.channel_index("A") < 0 || d.channel_index("R") < 0)
-            return Status::error("defocus: the deep part has no R, G, B, A channels (it has " +
-                                 std::to_string(d.nchannels()) + " channels)");
-        if (d.z_channel() < 0) return Status::error("defocus: the deep part has no depth channel 'Z'");
-        // Every sample's blur: it places Auto's blur cuts and bounds the extension.
-        std::vector<float> r(d.total_samples());
-        if (Status st = evaluate_blur_deep(field, camera, d, -1, r.data(), exec); !st)
-            return st.prefix("defocus: blur field");
-        layers = layers_from_deep(d, settings.split, exec, r);  // blur_cuts Off ignores the radii
-        if (layers) {
-            // Deep renders keep only visible samples: extend each layer behind
-            // the nearer layers that fully hide it, as far as the largest blur
-            // can reveal (not into genuinely empty, transparent areas).
-            ExtendOptions ext;
-            ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
-            ext.occluder_alpha = 0.999f;
-            if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
-        }
-    } else if (from_parts) {
-        layers = layers_from_parts(input, settings.source);
-    } else {
-        const RgbaIndices rgba = find_rgba(*flat);
-        if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
-            return Status::error("defocus: the input has no R, G, B channels (channels: " + channel_list(*flat) + ")");
-        auto pos = find_position_channels(*flat, settings.source.position_channels);
-        if (!pos) return pos.status().prefix("defocus");
-        auto z = find_depth_channel(*flat, settings.source.depth_channel);
-        if (!z) return z.status().prefix("defocus");
-        if (*z < 0)
-            return Status::error("defocus: the input has no depth channel '" +
-                                 (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
-                                 "' (channels: " + channel_list(*flat) + ")",
-                                 StatusCode::NotFound, "depth_channel");
-        // The plate's depth, decoded and cleaned (holes, speckles, mixed
-        // silhouette pixels), then every sample's blur at its own depth.
-        DepthCleanupOptions cl = settings.cleanup;                     // EXP
-        if (std::getenv("GDOF_EXP_NOSPECK")) cl.remove_speckles = false;  // EXP
-        if (std::getenv("GDOF_EXP_NOMIXED")) cl.split_mixed = false;      // EXP
-        auto pd = prepare_plate_depth(*flat, *z, settings.source.depth_decode, camera, cl, exec);
-        if (!pd) return pd.status().prefix("defocus");
-        plate_depth = std::move(pd).value();
-        std::vector<float> r, rf;
-        if (Status st = plate_radii(field, camera, plate_depth, r, rf, exec); !st)
-            return st.prefix("defocus: blur field");
-        SliceOptions so;
-        so.split = settings.split;
-        so.source = settings.source;
-        so.depth = &plate_depth;
-        if (std::getenv("GDOF_EXP_NOCONT")) so.continue_surfaces = false;  // EXP
-        so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
-        // Continued surfaces hide the cuts, so plates are cut by blur unless told not to.
-        if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
-            so.radius = r;
-            so.fg_radius = rf;
-        }
-        layers = layers_from_depth_map(*flat, so, exec);
-    }
+    DepthCleanupStats depth_stats;
+    Result<std::vector<Layer>> layers = input_layers(input, choice, field, camera, settings, exec, depth_stats);
     const double t_layers = seconds_since(t0);
-    if (!layers) return layers.status().prefix("defocus");
+    if (!layers) return layers.status();
     if (layers->empty()) return Status::error("defocus: the input gave no layers");
 
     DefocusStats local;
     DefocusStats& S = stats ? *stats : local;
     auto out = defocus_layers(*layers, field, camera, settings, &S, exec);
     S.t_layers = t_layers;
-    S.depth = plate_depth.stats;
+    S.depth = depth_stats;
     if (!out) return out.status();
 
-    // One flat part: R, G, B, A with the input's types, then the carried channels.
-    Image res = std::move(out).value();
-    for (int c = 0; c < 4; ++c) res.set_channel_type(c, types[c]);
-    res.set_display_window(display);
-    res.metadata = *md;
-    res.name = name;
-    res.view = view;
-    res.storage = storage;
-    if (flat && input.size() == 1) {
-        const RgbaIndices rgba = find_rgba(*flat);
-        const std::set<std::string> groups = rgba_groups(*flat);
-        for (int c = 0; c < flat->nchannels(); ++c) {
-            if (c == rgba.r || c == rgba.g || c == rgba.b || c == rgba.a) continue;
-            if (is_group_colour(flat->channel(c).name, groups)) continue;
-            if (res.channel_index(flat->channel(c).name) >= 0) continue;
-            carry_channel(*flat, c, res);
-        }
-    }
+    const bool single_flat = choice.kind != InputKind::Deep && input.size() == 1;
+    auto part = output_part(std::move(out).value(), ref, single_flat ? &input.flat(0) : nullptr);
+    if (!part) return part.status();
     ImageSet set;
-    set.parts.emplace_back(std::move(res));
+    set.parts.emplace_back(std::move(part).value());
     return set;
 }
 

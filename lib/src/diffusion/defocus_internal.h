@@ -37,7 +37,7 @@ std::string layer_label(const Layer& layer, int index);
 // A layer's premultiplied R, G, B, A diffused over its work region.
 struct DiffusedLayer {
     Roi work;
-    std::array<std::vector<float>, 4> rgba;
+    Image rgba;  // float R, G, B, A over `work`
 };
 
 // The solver settings used for a layer: the step count (ADI) or iteration

@@ -82,7 +82,7 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
     a.radius_from_alpha = any_alpha;
 
     a.radius.assign(img.npixels(), 0.0f);
-    if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, a.radius.data(), exec); !st)
+    if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, ImageView::planar(a.radius.data(), 1, win), exec); !st)
         return st.prefix(where + ": blur field");
 
     const int zc = img.channel_index("Z");

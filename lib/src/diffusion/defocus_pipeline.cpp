@@ -55,6 +55,108 @@ Exec sub_exec(const Exec& exec, double a, double b) {
 
 constexpr double kAnalysisShare = 0.1;  // of the progress bar
 
+// Step 1: every layer analysed over its whole window.
+struct Analysis {
+    std::vector<LayerAnalysis> layers;
+    Roi display, frame;  // unions of the layers' display and data windows
+    double max_radius = 0.0;
+};
+
+Result<Analysis> analyse_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                                const DiffusionOptions& settings, DefocusStats& S, const Exec& exec) {
+    const int nl = int(layers.size());
+    Analysis an;
+    an.layers.resize(static_cast<std::size_t>(nl));
+    for (int i = 0; i < nl; ++i) {
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
+        const auto t0 = std::chrono::steady_clock::now();
+        const Exec e = sub_exec(exec, kAnalysisShare * i / nl, kAnalysisShare * (i + 1) / nl);
+        auto r = analyse_layer(layers[std::size_t(i)], i, field, camera, settings, e);
+        S.t_blur += seconds_since(t0);
+        if (!r) return r.status();
+        an.layers[std::size_t(i)] = std::move(r).value();
+        an.display = unite(an.display, layers[std::size_t(i)].image.display_window());
+        an.frame = unite(an.frame, layers[std::size_t(i)].image.data_window());
+        an.max_radius = std::max(an.max_radius, an.layers[std::size_t(i)].max_radius);
+    }
+    return an;
+}
+
+// Step 2: the windows of the file comment (limit L, clip C, whole V_i, work
+// W_i, output O).
+struct Windows {
+    Roi limit, clip, output;
+    std::vector<Roi> whole, work;  // empty for empty and sharp layers
+};
+
+Windows plan_windows(const std::vector<Layer>& layers, const Analysis& an, const Roi& roi) {
+    const std::size_t nl = layers.size();
+    Windows w;
+    w.limit = unite(an.display, an.frame);
+    w.clip = roi.empty() ? w.limit : intersect(defocus_input_region(roi, an.max_radius), w.limit);
+    w.whole.resize(nl);
+    w.work.resize(nl);
+    for (std::size_t i = 0; i < nl; ++i) {
+        const LayerAnalysis& a = an.layers[i];
+        if (!a.empty && a.max_radius > 0.0) {
+            w.whole[i] = intersect(a.content.grown(defocus_margin(a.max_radius)), w.limit);
+            w.work[i] = intersect(w.whole[i], w.clip);
+        }
+        w.output = unite(w.output, w.work[i]);
+        w.output = unite(w.output, intersect(layers[i].image.data_window(), w.limit));
+    }
+    w.output = roi.empty() ? intersect(w.output, w.limit) : roi;
+    return w;
+}
+
+// Progress over step 3: after the analysis share, in proportion to the
+// work-region pixels of the layers that reach the output.
+struct DiffusionProgress {
+    double total = 0.0, done = 0.0;
+    double at(double d) const { return kAnalysisShare + (1.0 - kAnalysisShare) * (total > 0 ? d / total : 1.0); }
+};
+
+// Step 3 for one layer: skipped (empty, or out of reach of the output),
+// passed through (sharp) or diffused, then composited onto `out`.
+Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Windows& w, const DefocusOptions& settings,
+                    Image& out, DiffusionProgress& progress, DefocusStats& S, const Exec& exec) {
+    const Roi lwin = layer.image.data_window();
+    if (a.empty) {
+        ++S.layers_empty;
+        S.pixels_skipped += lwin.npixels();
+        return Status::ok();
+    }
+    if (a.max_radius <= 0.0) {
+        ++S.layers_sharp;
+        S.pixels_skipped += lwin.npixels();
+        const auto t0 = std::chrono::steady_clock::now();
+        const Image& img = layer.image;
+        Status st = composite_over(out, {img.plane(a.rgba.r), img.plane(a.rgba.g), img.plane(a.rgba.b), img.plane(a.rgba.a)},
+                                   lwin, exec);
+        S.t_composite += seconds_since(t0);
+        return st;
+    }
+    const Roi& work = w.work[std::size_t(i)];
+    if (intersect(work, w.output).empty()) {  // cannot reach the output (sub-regions)
+        S.pixels_skipped += lwin.npixels();
+        return Status::ok();
+    }
+    const double share = double(work.npixels());
+    DiffusedLayer d;
+    Status st = diffuse_layer(layer, i, a, work, w.whole[std::size_t(i)], settings.diffusion,
+                              sub_exec(exec, progress.at(progress.done), progress.at(progress.done + share)), d, S);
+    if (!st) return st;
+    S.pixels_diffused += work.npixels();
+    S.pixels_skipped += lwin.npixels() - intersect(lwin, work).npixels();
+    const auto t0 = std::chrono::steady_clock::now();
+    st = composite_over(out, {d.rgba.plane(0), d.rgba.plane(1), d.rgba.plane(2), d.rgba.plane(3)}, work, exec);
+    S.t_composite += seconds_since(t0);
+    if (!st) return st;
+    progress.done += share;
+    exec.report(progress.at(progress.done));
+    return Status::ok();
+}
+
 }  // namespace
 
 Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
@@ -66,88 +168,21 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
     const int nl = int(layers.size());
     S.layers = nl;
 
-    // 1. Analysis of every layer over its whole window.
-    std::vector<LayerAnalysis> an(static_cast<std::size_t>(nl));
-    Roi display, frame;
-    double rmax = 0.0;
-    for (int i = 0; i < nl; ++i) {
-        if (exec.is_cancelled()) return Status::cancelled("defocus");
-        const auto t0 = std::chrono::steady_clock::now();
-        const Exec e = sub_exec(exec, kAnalysisShare * i / nl, kAnalysisShare * (i + 1) / nl);
-        auto r = analyse_layer(layers[std::size_t(i)], i, field, camera, settings.diffusion, e);
-        S.t_blur += seconds_since(t0);
-        if (!r) return r.status();
-        an[std::size_t(i)] = std::move(r).value();
-        display = unite(display, layers[std::size_t(i)].image.display_window());
-        frame = unite(frame, layers[std::size_t(i)].image.data_window());
-        rmax = std::max(rmax, an[std::size_t(i)].max_radius);
-    }
-    S.max_radius_px = rmax;
+    auto an = analyse_layers(layers, field, camera, settings.diffusion, S, exec);
+    if (!an) return an.status();
+    S.max_radius_px = an->max_radius;
+    const Windows w = plan_windows(layers, *an, settings.roi);
 
-    // 2. Windows.
-    const Roi limit = unite(display, frame);
-    const Roi clip = settings.roi.empty() ? limit : intersect(defocus_input_region(settings.roi, rmax), limit);
-    std::vector<Roi> work(static_cast<std::size_t>(nl)), whole(static_cast<std::size_t>(nl));
-    Roi out_win;
-    for (int i = 0; i < nl; ++i) {
-        const LayerAnalysis& a = an[std::size_t(i)];
-        if (!a.empty && a.max_radius > 0.0) {
-            whole[std::size_t(i)] = intersect(a.content.grown(defocus_margin(a.max_radius)), limit);
-            work[std::size_t(i)] = intersect(whole[std::size_t(i)], clip);
-        }
-        out_win = unite(out_win, work[std::size_t(i)]);
-        out_win = unite(out_win, intersect(layers[std::size_t(i)].image.data_window(), limit));
-    }
-    out_win = settings.roi.empty() ? intersect(out_win, limit) : settings.roi;
-
-    Image out = Image::with_channels({"R", "G", "B", "A"}, out_win);
-    out.set_display_window(display);
-
-    // 3. Back to front: diffuse (or pass through) and composite.
-    double total = 0.0;
+    Image out = Image::with_channels({"R", "G", "B", "A"}, w.output);
+    out.set_display_window(an->display);
+    DiffusionProgress progress;
     for (int i = 0; i < nl; ++i)
-        if (!intersect(work[std::size_t(i)], out_win).empty()) total += double(work[std::size_t(i)].npixels());
-    double done = 0.0;
-    auto progress_at = [&](double d) { return kAnalysisShare + (1.0 - kAnalysisShare) * (total > 0 ? d / total : 1.0); };
-    for (int i = nl - 1; i >= 0; --i) {
+        if (!intersect(w.work[std::size_t(i)], w.output).empty()) progress.total += double(w.work[std::size_t(i)].npixels());
+    for (int i = nl - 1; i >= 0; --i) {  // back to front
         if (exec.is_cancelled()) return Status::cancelled("defocus");
-        const Layer& layer = layers[std::size_t(i)];
-        const LayerAnalysis& a = an[std::size_t(i)];
-        const Roi lwin = layer.image.data_window();
-        if (a.empty) {
-            ++S.layers_empty;
-            S.pixels_skipped += lwin.npixels();
-            continue;
-        }
-        if (a.max_radius <= 0.0) {
-            ++S.layers_sharp;
-            S.pixels_skipped += lwin.npixels();
-            const auto t0 = std::chrono::steady_clock::now();
-            const Image& img = layer.image;
-            Status st = composite_over(out, {img.plane(a.rgba.r), img.plane(a.rgba.g), img.plane(a.rgba.b), img.plane(a.rgba.a)},
-                                       lwin, exec);
-            S.t_composite += seconds_since(t0);
-            if (!st) return st;
-            continue;
-        }
-        const Roi& w = work[std::size_t(i)];
-        if (intersect(w, out_win).empty()) {  // cannot reach the output (sub-regions)
-            S.pixels_skipped += lwin.npixels();
-            continue;
-        }
-        const double share = double(w.npixels());
-        DiffusedLayer d;
-        Status st = diffuse_layer(layer, i, a, w, whole[std::size_t(i)], settings.diffusion, sub_exec(exec, progress_at(done), progress_at(done + share)),
-                                  d, S);
-        if (!st) return st;
-        S.pixels_diffused += w.npixels();
-        S.pixels_skipped += lwin.npixels() - intersect(lwin, w).npixels();
-        const auto t0 = std::chrono::steady_clock::now();
-        st = composite_over(out, {d.rgba[0].data(), d.rgba[1].data(), d.rgba[2].data(), d.rgba[3].data()}, w, exec);
-        S.t_composite += seconds_since(t0);
-        if (!st) return st;
-        done += share;
-        exec.report(progress_at(done));
+        if (Status st = render_layer(layers[std::size_t(i)], i, an->layers[std::size_t(i)], w, settings, out, progress, S, exec);
+            !st)
+            return st;
     }
     exec.report(1.0);
     return out;

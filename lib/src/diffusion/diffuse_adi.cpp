@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/flush_denormals.h"
+#include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
 
 namespace gdof {
@@ -58,8 +59,11 @@ int adi_steps_for(double max_radius_px, const DiffusionOptions& settings) {
     return std::clamp(int(std::ceil(8.0 * max_radius_px)), 4, 64);
 }
 
-Status diffuse_adi(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                   const DiffusionOptions& settings, const Exec& exec) {
+namespace {
+
+// The solver on row-major planes of width x height.
+Status adi_kernel(std::span<float* const> planes, int width, int height, const float* diffusivity,
+                  const DiffusionOptions& settings, const Exec& exec) {
     const int W = width, H = height, nc = int(planes.size());
     float dmax = 0.0f;
     for (std::size_t i = 0; i < std::size_t(W) * std::size_t(H); ++i) dmax = std::max(dmax, diffusivity[i]);
@@ -129,6 +133,15 @@ Status diffuse_adi(std::span<float* const> planes, int width, int height, const 
         if (!ok) return Status::cancelled("diffusion");
     }
     return Status::ok();
+}
+
+}  // namespace
+
+Status diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                   const Exec& exec) {
+    return diffusion_detail::run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
+        return adi_kernel(p, w, h, d, settings, exec);
+    });
 }
 
 }  // namespace gdof

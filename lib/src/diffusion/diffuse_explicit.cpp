@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/flush_denormals.h"
+#include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
 
 namespace gdof {
@@ -17,10 +18,10 @@ namespace {
 // moment per axis equals the 5-point stencil's (2), so variance per step is 2 D dt.
 constexpr float kEdge = 4.0f / 6.0f;
 constexpr float kDiag = 1.0f / 6.0f;
-}  // namespace
 
-Status diffuse_explicit(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                        const DiffusionOptions& settings, const Exec& exec) {
+// The solver on row-major planes of width x height.
+Status explicit_kernel(std::span<float* const> planes, int width, int height, const float* diffusivity,
+                       const DiffusionOptions& settings, const Exec& exec) {
     const int W = width, H = height;
     const std::size_t n = std::size_t(W) * std::size_t(H);
     float dmax = 0.0f;
@@ -79,6 +80,15 @@ Status diffuse_explicit(std::span<float* const> planes, int width, int height, c
         }
     }
     return Status::ok();
+}
+
+}  // namespace
+
+Status diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                        const Exec& exec) {
+    return diffusion_detail::run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
+        return explicit_kernel(p, w, h, d, settings, exec);
+    });
 }
 
 }  // namespace gdof

@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "image/row_major_planes.h"
+#include "image/view_shape.h"
+
 namespace gdof {
 
 const char* to_string(DiffusionSolver s) {
@@ -38,20 +41,27 @@ int explicit_iterations(double max_radius_px, const DiffusionOptions& settings) 
     return std::max(1, int(std::ceil(settings.explicit_safety * d * 10.0 / 3.0)));
 }
 
-Status diffuse_planes(std::span<float* const> planes, int width, int height, const float* radius,
-                      const DiffusionOptions& settings, const Exec& exec) {
-    if (width < 0 || height < 0) return Status::error("diffusion: negative image size");
-    const std::size_t n = std::size_t(width) * std::size_t(height);
-    if (n == 0 || planes.empty()) return Status::ok();
+Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, const DiffusionOptions& settings,
+                      const Exec& exec) {
+    using namespace image_detail;
+    const Roi& win = planes.window;
+    if (win.x1 < win.x0 || win.y1 < win.y0) return Status::error("diffusion: inverted window " + to_string(win));
+    if (Status st = check_view_shape(planes, kAnyChannelCount, win, "diffusion: the planes"); !st) return st;
+    if (Status st = check_view_shape(radius, 1, win, "diffusion: the radius map"); !st) return st;
+    const int width = win.width();
+    const std::size_t n = win.npixels();
+    if (n == 0 || planes.nchannels == 0) return Status::ok();
     if (settings.adi_steps < 0 || settings.adi_steps > 1000)
         return Status::error("diffusion: adi_steps must be in 0..1000 (0: automatic), got " + std::to_string(settings.adi_steps));
     if (!(settings.explicit_safety >= 1.0) || settings.explicit_safety > 100.0)
         return Status::error("diffusion: explicit_safety must be in 1..100");
+    const RowMajorPlanes<const float> radius_plane(radius);
+    const float* rp = radius_plane.plane(0);
     std::vector<float> d(n);
     bool any = false;
     float dmax = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
-        float r = radius[i];
+        float r = rp[i];
         if (!std::isfinite(r) || r < 0.0f || r > settings.max_radius) {
             int x = int(i % std::size_t(width)), y = int(i / std::size_t(width));
             return Status::error("diffusion: blur radius at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
@@ -64,8 +74,9 @@ Status diffuse_planes(std::span<float* const> planes, int width, int height, con
     }
     if (!any) return Status::ok();  // identity, bit for bit
     const DiffusionSolver solver = choose_solver(radius_from_diffusivity(dmax), settings);
-    return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, width, height, d.data(), settings, exec)
-                                               : diffuse_adi(planes, width, height, d.data(), settings, exec);
+    const ConstImageView diffusivity = ConstImageView::planar(d.data(), 1, win);
+    return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, diffusivity, settings, exec)
+                                               : diffuse_adi(planes, diffusivity, settings, exec);
 }
 
 }  // namespace gdof

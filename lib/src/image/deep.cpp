@@ -1,14 +1,12 @@
 #include "gdof/deep.h"
 
-#include <stdexcept>
-
 namespace gdof {
 
 DeepImage::DeepImage(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window)
     : channels_(std::move(channels)), data_(data_window), display_(display_window) {
     fsamples_.resize(channels_.size());
     usamples_.resize(channels_.size());
-    set_sample_counts(std::vector<std::uint32_t>(npixels(), 0u));
+    allocate_samples(std::vector<std::uint32_t>(npixels(), 0u));
 }
 
 int DeepImage::channel_index(std::string_view name) const {
@@ -39,11 +37,14 @@ int DeepImage::zback_channel() const {
     return -1;
 }
 
-void DeepImage::set_channel_type(int c, PixelType t) {
+Status DeepImage::set_channel_type(int c, PixelType t) {
     auto& ch = channels_[std::size_t(c)];
     if ((ch.type == PixelType::UInt) != (t == PixelType::UInt))
-        throw std::logic_error("DeepImage::set_channel_type: cannot convert between uint and float storage");
+        return Status::error("deep channel '" + ch.name + "' is " + to_string(ch.type) + " and cannot become " +
+                                 to_string(t) + " (uint and float channels keep their storage)",
+                             StatusCode::InvalidArgument);
     ch.type = t;
+    return Status::ok();
 }
 
 int DeepImage::add_channel(ChannelSpec spec) {
@@ -58,9 +59,16 @@ int DeepImage::add_channel(ChannelSpec spec) {
     return nchannels() - 1;
 }
 
-void DeepImage::set_sample_counts(const std::vector<std::uint32_t>& counts) {
+Status DeepImage::set_sample_counts(const std::vector<std::uint32_t>& counts) {
     if (counts.size() != npixels())
-        throw std::invalid_argument("DeepImage::set_sample_counts: expected one count per pixel");
+        return Status::error("deep image: " + std::to_string(counts.size()) + " sample counts for the " +
+                                 std::to_string(npixels()) + " pixels of its data window " + to_string(data_),
+                             StatusCode::InvalidArgument);
+    allocate_samples(counts);
+    return Status::ok();
+}
+
+void DeepImage::allocate_samples(const std::vector<std::uint32_t>& counts) {
     counts_ = counts;
     offsets_.assign(counts_.size() + 1, 0);
     for (std::size_t i = 0; i < counts_.size(); ++i) offsets_[i + 1] = offsets_[i] + counts_[i];

@@ -4,7 +4,11 @@
 #include "gdof/fill.h"
 
 #include <algorithm>
+#include <span>
 #include <vector>
+
+#include "image/row_major_planes.h"
+#include "image/view_shape.h"
 
 namespace gdof {
 
@@ -16,10 +20,8 @@ struct Level {
     std::vector<std::vector<float>> values;  // per plane, normalised (not weighted)
 };
 
-}  // namespace
-
-bool push_pull_fill(std::span<float* const> planes, const float* weight, int width, int height) {
-    if (width <= 0 || height <= 0 || planes.empty()) return false;
+// The fill on row-major planes of width x height (push_pull_fill's contract).
+bool push_pull(std::span<float* const> planes, const float* weight, int width, int height) {
     const std::size_t n = std::size_t(width) * std::size_t(height);
     const int nc = int(planes.size());
     bool any = false, missing = false;
@@ -103,6 +105,21 @@ bool push_pull_fill(std::span<float* const> planes, const float* weight, int wid
     for (std::size_t i = 0; i < n; ++i)
         if (!(weight[i] > 0.0f))
             for (int c = 0; c < nc; ++c) planes[std::size_t(c)][i] = base.values[std::size_t(c)][i];
+    return true;
+}
+
+}  // namespace
+
+bool push_pull_fill(const ImageView& planes, const ConstImageView& weight) {
+    using namespace image_detail;
+    if (planes.window.empty() || planes.nchannels <= 0) return false;
+    if (!check_view_shape(planes, kAnyChannelCount, planes.window, "fill planes") ||
+        !check_view_shape(weight, 1, planes.window, "fill weight"))
+        return false;
+    const RowMajorPlanes<float> p(planes);
+    const RowMajorPlanes<const float> w(weight);
+    if (!push_pull(p.planes(), w.plane(0), planes.width(), planes.height())) return false;
+    p.store();
     return true;
 }
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstdio>
-#include <stdexcept>
 
 namespace gdof {
 
@@ -40,14 +39,11 @@ Image::Image(std::vector<ChannelSpec> channels, Roi data_window)
 Image::Image(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window)
     : channels_(std::move(channels)), data_(data_window), display_(display_window) {
     // Keep a degenerate (x1 < x0) window representable but allocate nothing for it.
-    fplanes_.resize(channels_.size());
+    number_float_planes();
+    fdata_.assign(std::size_t(float_channel_count()) * npixels(), 0.0f);
     uplanes_.resize(channels_.size());
-    for (std::size_t c = 0; c < channels_.size(); ++c) {
-        if (channels_[c].type == PixelType::UInt)
-            uplanes_[c].assign(npixels(), 0u);
-        else
-            fplanes_[c].assign(npixels(), 0.0f);
-    }
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (channels_[c].type == PixelType::UInt) uplanes_[c].assign(npixels(), 0u);
 }
 
 Image Image::with_channels(const std::vector<std::string>& names, Roi data_window) {
@@ -56,11 +52,27 @@ Image Image::with_channels(const std::vector<std::string>& names, Roi data_windo
     return Image(std::move(specs), data_window);
 }
 
-void Image::set_channel_type(int c, PixelType t) {
+int Image::float_channel_count() const {
+    int n = 0;
+    for (const ChannelSpec& c : channels_) n += c.type == PixelType::UInt ? 0 : 1;
+    return n;
+}
+
+void Image::number_float_planes() {
+    fplane_of_.assign(channels_.size(), -1);
+    int k = 0;
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+        if (channels_[c].type != PixelType::UInt) fplane_of_[c] = k++;
+}
+
+Status Image::set_channel_type(int c, PixelType t) {
     auto& ch = channels_[std::size_t(c)];
     if ((ch.type == PixelType::UInt) != (t == PixelType::UInt))
-        throw std::logic_error("Image::set_channel_type: cannot convert between uint and float storage");
+        return Status::error("channel '" + ch.name + "' is " + to_string(ch.type) + " and cannot become " + to_string(t) +
+                                 " (uint and float channels keep their storage)",
+                             StatusCode::InvalidArgument);
     ch.type = t;
+    return Status::ok();
 }
 
 int Image::channel_index(std::string_view name) const {
@@ -70,27 +82,34 @@ int Image::channel_index(std::string_view name) const {
 }
 
 int Image::add_channel(ChannelSpec spec) {
-    bool is_uint = spec.type == PixelType::UInt;
+    const bool is_uint = spec.type == PixelType::UInt;
     channels_.push_back(std::move(spec));
-    fplanes_.emplace_back();
+    number_float_planes();
     uplanes_.emplace_back();
-    if (is_uint)
+    if (is_uint) {
         uplanes_.back().assign(npixels(), 0u);
-    else
-        fplanes_.back().assign(npixels(), 0.0f);
+    } else {
+        // Exactly one plane more (resize alone may double the capacity).
+        fdata_.reserve(fdata_.size() + npixels());
+        fdata_.resize(fdata_.size() + npixels(), 0.0f);
+    }
     return nchannels() - 1;
 }
 
 void Image::remove_channel(int c) {
+    if (channels_[std::size_t(c)].type != PixelType::UInt && npixels() > 0) {
+        const auto first = fdata_.begin() + std::ptrdiff_t(plane_offset(c));
+        fdata_.erase(first, first + std::ptrdiff_t(npixels()));
+    }
     channels_.erase(channels_.begin() + c);
-    fplanes_.erase(fplanes_.begin() + c);
     uplanes_.erase(uplanes_.begin() + c);
+    number_float_planes();
 }
 
 float Image::sample(int c, int x, int y) const {
     if (!data_.contains(x, y)) return 0.0f;
     if (channels_[std::size_t(c)].type == PixelType::UInt) return float(uplanes_[std::size_t(c)][offset(x, y)]);
-    return fplanes_[std::size_t(c)][offset(x, y)];
+    return at(c, x, y);
 }
 
 ConstImageView Image::channel_view(int c) const {
@@ -99,6 +118,16 @@ ConstImageView Image::channel_view(int c) const {
 
 ImageView Image::channel_view(int c) {
     return {plane(c), 1, data_, 0, 1, std::ptrdiff_t(width())};
+}
+
+ConstImageView Image::channels_view() const {
+    if (float_channel_count() != nchannels()) return {nullptr, 0, data_, 0, 0, 0};
+    return ConstImageView::planar(npixels() ? fdata_.data() : nullptr, nchannels(), data_);
+}
+
+ImageView Image::channels_view() {
+    if (float_channel_count() != nchannels()) return {nullptr, 0, data_, 0, 0, 0};
+    return ImageView::planar(npixels() ? fdata_.data() : nullptr, nchannels(), data_);
 }
 
 RgbaIndices find_rgba(const Image& img, std::string_view layer) {

@@ -5,7 +5,7 @@
 
 namespace gdof {
 
-Image composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window) {
+Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec) {
     Image out = Image::with_channels({"R", "G", "B", "A"}, window);
     for (const Image* l : front_to_back)
         if (l) {
@@ -31,7 +31,7 @@ Image composite_layers(const std::vector<const Image*>& front_to_back, const Roi
         srcs.push_back(s);
     }
     float* o[4] = {out.plane(0), out.plane(1), out.plane(2), out.plane(3)};
-    parallel_for(Exec{}, window.height(), [&](long r0, long r1) {
+    const bool ok = parallel_for(exec, window.height(), [&](long r0, long r1) {
         for (long row = r0; row < r1; ++row) {
             const int y = window.y0 + int(row);
             for (const Src& s : srcs) {
@@ -47,6 +47,7 @@ Image composite_layers(const std::vector<const Image*>& front_to_back, const Roi
             }
         }
     });
+    if (!ok) return Status::cancelled("compositing layers");
     return out;
 }
 

@@ -122,109 +122,133 @@ struct Over {
     double mean_z() const { return wsum > 0 ? zsum / wsum : first_z; }
 };
 
-}  // namespace
+// Every sample's layer, and the layers' names (ById) or slice intervals.
+struct SampleLayers {
+    std::vector<std::int32_t> layer_of;  // per sample
+    int count = 0;
+    std::vector<std::string> names;          // ById
+    std::vector<double> slice_lo, slice_hi;  // depth splits
+};
 
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split, const Exec& exec,
-                                            std::span<const float> sample_radius) {
-    auto chr = deep_channels(deep);
-    if (!chr) return chr.status();
-    const DeepChannels ch = *chr;
-    if (Status st = validate_samples(deep, ch); !st) return st;
-    const Roi win = deep.data_window();
+// One layer per id, ordered by the median depth of its samples.
+Result<SampleLayers> layers_by_id(const DeepImage& deep, const float* z, const std::string& id_channel) {
     const std::size_t nsamples = deep.total_samples();
-    const float* z = deep.samples(ch.z);
-    if (!sample_radius.empty() && sample_radius.size() != nsamples)
-        return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
-                             std::to_string(nsamples) + " samples");
-
-    // Layer of every sample, and the layers' names / intervals.
-    std::vector<std::int32_t> layer_of(nsamples, 0);
-    int nlayers = 0;
-    std::vector<std::string> names;
-    std::vector<double> slice_lo, slice_hi;
-    if (split.mode == LayerSplit::Mode::ById) {
-        const int idc = deep.channel_index(split.id_channel);
-        if (idc < 0) return Status::error("layer split by id: deep image has no channel '" + split.id_channel + "'");
-        if (deep.channel(idc).type != PixelType::UInt)
-            return Status::error("layer split by id: channel '" + split.id_channel + "' is not a uint channel");
-        const std::uint32_t* ids = deep.usamples(idc);
-        std::map<std::uint32_t, std::vector<float>> depths;
-        for (std::size_t k = 0; k < nsamples; ++k) depths[ids[k]].push_back(z[k]);
-        struct Entry {
-            std::uint32_t id;
-            double median;
-        };
-        std::vector<Entry> entries;
-        for (auto& [id, zs] : depths) {
-            double m = median_finite(zs);
-            if (std::isnan(m)) m = kInf;  // only +inf samples
-            entries.push_back({id, m});
-        }
-        std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.median < b.median; });
-        std::map<std::uint32_t, int> index;
-        for (const Entry& e : entries) {
-            index[e.id] = nlayers++;
-            names.push_back(split.id_channel + " " + std::to_string(e.id));
-        }
-        for (std::size_t k = 0; k < nsamples; ++k) layer_of[k] = index[ids[k]];
-    } else {
-        const DepthSlices slices = choose_slices(std::span<const float>(z, nsamples), split, sample_radius);
-        nlayers = slices.count();
-        slice_lo = slices.lo;
-        slice_hi = slices.hi;
-        for (std::size_t k = 0; k < nsamples; ++k) layer_of[k] = slices.slice_of(z[k]);
+    const int idc = deep.channel_index(id_channel);
+    if (idc < 0) return Status::error("layer split by id: deep image has no channel '" + id_channel + "'");
+    if (deep.channel(idc).type != PixelType::UInt)
+        return Status::error("layer split by id: channel '" + id_channel + "' is not a uint channel");
+    const std::uint32_t* ids = deep.usamples(idc);
+    std::map<std::uint32_t, std::vector<float>> depths;
+    for (std::size_t k = 0; k < nsamples; ++k) depths[ids[k]].push_back(z[k]);
+    struct Entry {
+        std::uint32_t id;
+        double median;
+    };
+    std::vector<Entry> entries;
+    for (auto& [id, zs] : depths) {
+        double m = median_finite(zs);
+        if (std::isnan(m)) m = kInf;  // only +inf samples
+        entries.push_back({id, m});
     }
+    std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.median < b.median; });
+    SampleLayers sl;
+    std::map<std::uint32_t, int> index;
+    for (const Entry& e : entries) {
+        index[e.id] = sl.count++;
+        sl.names.push_back(id_channel + " " + std::to_string(e.id));
+    }
+    sl.layer_of.resize(nsamples);
+    for (std::size_t k = 0; k < nsamples; ++k) sl.layer_of[k] = index[ids[k]];
+    return sl;
+}
 
-    // Coverage boxes and depth ranges.
-    std::vector<Roi> box(static_cast<std::size_t>(nlayers));
-    std::vector<double> znear(std::size_t(nlayers), kInf), zfar(std::size_t(nlayers), -kInf);
+// Depth slices (Auto or Count) of the sample depths.
+SampleLayers layers_by_depth(std::span<const float> z, const LayerSplit& split, std::span<const float> sample_radius) {
+    const DepthSlices slices = choose_slices(z, split, sample_radius);
+    SampleLayers sl;
+    sl.count = slices.count();
+    sl.slice_lo = slices.lo;
+    sl.slice_hi = slices.hi;
+    sl.layer_of.resize(z.size());
+    for (std::size_t k = 0; k < z.size(); ++k) sl.layer_of[k] = slices.slice_of(z[k]);
+    return sl;
+}
+
+// Bounding box and depth range of every layer's samples.
+struct LayerExtents {
+    std::vector<Roi> box;
+    std::vector<double> znear, zfar;
+};
+
+LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLayers& sl) {
+    const Roi win = deep.data_window();
+    LayerExtents e;
+    e.box.resize(std::size_t(sl.count));
+    e.znear.assign(std::size_t(sl.count), kInf);
+    e.zfar.assign(std::size_t(sl.count), -kInf);
     for (int y = win.y0; y < win.y1; ++y)
         for (int x = win.x0; x < win.x1; ++x) {
             const std::size_t p = deep.pixel_index(x, y);
             const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
             for (std::size_t k = s0; k < s0 + n; ++k) {
-                const std::size_t l = std::size_t(layer_of[k]);
-                box[l] = unite(box[l], Roi{x, y, x + 1, y + 1});
-                znear[l] = std::min(znear[l], double(z[k]));
-                zfar[l] = std::max(zfar[l], double(z[k]));
+                const std::size_t l = std::size_t(sl.layer_of[k]);
+                e.box[l] = unite(e.box[l], Roi{x, y, x + 1, y + 1});
+                e.znear[l] = std::min(e.znear[l], double(z[k]));
+                e.zfar[l] = std::max(e.zfar[l], double(z[k]));
             }
         }
+    return e;
+}
 
-    std::vector<Layer> layers(static_cast<std::size_t>(nlayers));
+// The layers before any sample is composited into them: named, over their
+// boxes, with the deep image's display window and metadata, zero colour and
+// NaN depth (and positions).
+std::vector<Layer> blank_layers(const DeepImage& deep, const LayerSplit& split, const SampleLayers& sl,
+                                const LayerExtents& ext, bool with_positions) {
+    std::vector<Layer> layers(static_cast<std::size_t>(sl.count));
     std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
-    if (ch.p) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
-    for (int l = 0; l < nlayers; ++l) {
-        Layer& L = layers[std::size_t(l)];
-        const bool empty = box[std::size_t(l)].empty();
-        L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : znear[std::size_t(l)];
-        L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : zfar[std::size_t(l)];
+    if (with_positions) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
+    for (int l = 0; l < sl.count; ++l) {
+        const std::size_t li = std::size_t(l);
+        Layer& L = layers[li];
+        const bool empty = ext.box[li].empty();
+        L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : ext.znear[li];
+        L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : ext.zfar[li];
         if (split.mode == LayerSplit::Mode::ById) {
-            L.name = names[std::size_t(l)];
+            L.name = sl.names[li];
             L.slice_near = L.depth_near;
             L.slice_far = L.depth_far;
         } else {
-            L.slice_near = slice_lo[std::size_t(l)];
-            L.slice_far = slice_hi[std::size_t(l)];
+            L.slice_near = sl.slice_lo[li];
+            L.slice_far = sl.slice_hi[li];
             L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)"
                            : depth_range_name(L.depth_near, L.depth_far);
         }
-        L.image = Image::with_channels(chan_names, box[std::size_t(l)]);
+        L.image = Image::with_channels(chan_names, ext.box[li]);
         L.image.set_display_window(deep.display_window());
         L.image.metadata = deep.metadata;
         L.image.name = L.name;
         L.image.view = deep.view;
         std::fill_n(L.image.plane(4), L.image.npixels(), kNaN);
-        if (ch.p)
+        if (with_positions)
             for (int c = 5; c < 8; ++c) std::fill_n(L.image.plane(c), L.image.npixels(), kNaN);
     }
+    return layers;
+}
 
+// Composites every pixel's samples, front to back, into the layers they
+// belong to. Parallel over rows; false if cancelled.
+bool composite_samples(const DeepImage& deep, const DeepChannels& ch, const SampleLayers& sl, std::vector<Layer>& layers,
+                       const Exec& exec) {
+    const Roi win = deep.data_window();
+    const float* z = deep.samples(ch.z);
     const float* sr = deep.samples(ch.r);
     const float* sg = deep.samples(ch.g);
     const float* sb = deep.samples(ch.b);
     const float* sa = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
     const float* sp[3] = {ch.p ? deep.samples((*ch.p)[0]) : nullptr, ch.p ? deep.samples((*ch.p)[1]) : nullptr,
                           ch.p ? deep.samples((*ch.p)[2]) : nullptr};
-    const bool ok = parallel_for(exec, win.height(), [&](long r0, long r1) {
+    return parallel_for(exec, win.height(), [&](long r0, long r1) {
         std::vector<std::size_t> order;
         std::vector<std::pair<int, Over>> acc;  // touched layers of the pixel
         for (long row = r0; row < r1; ++row) {
@@ -235,7 +259,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
                 sorted_samples(deep, z, p, order);
                 acc.clear();
                 for (std::size_t k : order) {
-                    const int l = layer_of[k];
+                    const int l = sl.layer_of[k];
                     auto it = std::find_if(acc.begin(), acc.end(), [l](const auto& e) { return e.first == l; });
                     if (it == acc.end()) {
                         acc.emplace_back(l, Over{});
@@ -259,11 +283,32 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
             }
         }
     });
-    if (!ok) return Status::cancelled();
+}
+
+}  // namespace
+
+Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
+                                            std::span<const float> sample_radius, const Exec& exec) {
+    auto chr = deep_channels(deep);
+    if (!chr) return chr.status();
+    const DeepChannels ch = *chr;
+    if (Status st = validate_samples(deep, ch); !st) return st;
+    const std::size_t nsamples = deep.total_samples();
+    const float* z = deep.samples(ch.z);
+    if (!sample_radius.empty() && sample_radius.size() != nsamples)
+        return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
+                             std::to_string(nsamples) + " samples");
+
+    Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
+                                  ? layers_by_id(deep, z, split.id_channel)
+                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius));
+    if (!sl) return sl.status();
+    std::vector<Layer> layers = blank_layers(deep, split, *sl, layer_extents(deep, z, *sl), ch.p.has_value());
+    if (!composite_samples(deep, ch, *sl, layers, exec)) return Status::cancelled();
     return layers;
 }
 
-Result<Image> flatten_deep(const DeepImage& deep) {
+Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
@@ -280,7 +325,7 @@ Result<Image> flatten_deep(const DeepImage& deep) {
     const float* sg = deep.samples(ch.g);
     const float* sb = deep.samples(ch.b);
     const float* sa = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    parallel_for(Exec{}, win.height(), [&](long r0, long r1) {
+    const bool ok = parallel_for(exec, win.height(), [&](long r0, long r1) {
         std::vector<std::size_t> order;
         for (long row = r0; row < r1; ++row) {
             const int y = win.y0 + int(row);
@@ -299,6 +344,7 @@ Result<Image> flatten_deep(const DeepImage& deep) {
             }
         }
     });
+    if (!ok) return Status::cancelled("flatten");
     return out;
 }
 

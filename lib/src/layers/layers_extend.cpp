@@ -89,7 +89,9 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 const Image& src = L.image;
                 const bool has_p = src.nchannels() >= 8;
                 const int nfill = has_p ? 7 : 4;  // r, g, b, Z (, P.x, P.y, P.z)
-                std::vector<std::vector<float>> fill(std::size_t(nfill), std::vector<float>(wn, 0.0f));
+                std::vector<float> fill_planes(std::size_t(nfill) * wn, 0.0f);  // back to back over `work`
+                std::array<float*, 7> fill{};
+                for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
                 std::vector<float> wcol(wn, 0.0f), wgeo(wn, 0.0f);
                 for (int y = 0; y < wh; ++y)
                     for (int x = 0; x < ww; ++x) {
@@ -107,11 +109,10 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                             for (int k = 0; has_p && k < 3; ++k) fill[std::size_t(4 + k)][wi] = src.at(5 + k, ax, ay);
                         }
                     }
-                std::array<float*, 3> cp = {fill[0].data(), fill[1].data(), fill[2].data()};
-                const bool have_colour = push_pull_fill(cp, wcol.data(), ww, wh);
-                std::vector<float*> gp;
-                for (int k = 3; k < nfill; ++k) gp.push_back(fill[std::size_t(k)].data());
-                const bool have_depth = push_pull_fill(gp, wgeo.data(), ww, wh);
+                const ImageView fill_view = ImageView::planar(fill_planes.data(), nfill, work);
+                const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work));
+                const bool have_depth =
+                    push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work));
 
                 // Re-window the layer to include the extension.
                 std::vector<ChannelSpec> specs = src.channels();

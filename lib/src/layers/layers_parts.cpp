@@ -196,7 +196,7 @@ Layer make_layer(const Image& img, const Candidate& c, const PositionSource& src
 
 }  // namespace
 
-Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source) {
+Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec) {
     if (Status st = source.depth_decode.validate(); !st) return st.prefix("depth decoding");
     struct Entry {
         Layer layer;
@@ -204,9 +204,10 @@ Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const Position
     };
     std::vector<Entry> entries;
     for (std::size_t i = 0; i < set.size(); ++i) {
+        if (exec.is_cancelled()) return Status::cancelled();
         const std::string part = set.part_name(i).empty() ? "part " + std::to_string(i) : set.part_name(i);
         if (set.is_deep(i)) {
-            auto dl = layers_from_deep(set.deep(i), LayerSplit{});
+            auto dl = layers_from_deep(set.deep(i), LayerSplit{}, {}, exec);
             if (!dl) return dl.status().prefix("part " + std::to_string(i) + " '" + part + "'");
             for (Layer& l : *dl) {
                 l.name = part + " " + l.name;

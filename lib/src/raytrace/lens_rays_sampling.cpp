@@ -1,25 +1,19 @@
-// Aperture samples: per-pixel seeds, scrambled 2D Sobol points, and the maps
-// from the unit square to the aperture shapes (disc, polygon, mask image).
+// Aperture samples: per-pixel seeds, scrambled 2D Sobol points, a pixel's
+// camera samples, and the maps from the unit square to the aperture shapes
+// (disc, polygon, mask image).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
 #include "gdof/lens_rays.h"
+#include "raytrace/hash.h"
 
 namespace gdof {
 
 namespace {
 
-std::uint64_t mix64(std::uint64_t z) {
-    // A 64-bit finaliser (xor-shift / multiply rounds).
-    z ^= z >> 30;
-    z *= 0xbf58476d1ce4e5b9ull;
-    z ^= z >> 27;
-    z *= 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return z;
-}
+using rt::mix64;
 
 std::uint32_t reverse_bits(std::uint32_t x) {
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
@@ -85,6 +79,20 @@ Vec2 unit_square_sample(std::uint64_t seed, std::uint32_t index) {
 
 void unit_square_samples(std::uint64_t seed, std::uint32_t first, std::span<Vec2> out) {
     for (std::size_t k = 0; k < out.size(); ++k) out[k] = unit_square_sample(seed, first + std::uint32_t(k));
+}
+
+PixelSampler::PixelSampler(int x, int y, std::uint64_t global_seed, bool jitter)
+    : seed_(pixel_seed(x, y, global_seed)), jitter_seed_(jitter ? mix64(seed_ ^ 0x6a09e667f3bcc909ull) : 0),
+      jitter_(jitter) {}
+
+CameraSample PixelSampler::sample(std::uint32_t index) const {
+    CameraSample s;
+    if (jitter_) {
+        const Vec2 u = unit_square_sample(jitter_seed_, index);
+        s.pixel_offset = {u.x - 0.5, u.y - 0.5};
+    }
+    s.aperture = unit_square_sample(seed_, index);
+    return s;
 }
 
 Vec2 concentric_disc(Vec2 unit) {

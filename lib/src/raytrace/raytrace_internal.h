@@ -1,4 +1,4 @@
-// Internal to the ray tracer: per-pixel random numbers and direct lighting.
+// Internal to the ray tracer: direct lighting and what a pixel writes.
 #pragma once
 
 #include <cstdint>
@@ -8,23 +8,9 @@
 #include "gdof/image.h"
 
 #include "gdof/raytrace.h"
+#include "raytrace/hash.h"
 
 namespace gdof::rt {
-
-inline std::uint64_t mix64(std::uint64_t z) {  // splitmix64 finaliser
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-inline std::uint64_t hash(std::uint64_t a, std::uint64_t b) { return mix64(a * 0x9e3779b97f4a7c15ull + mix64(b)); }
-
-// A small counter-based stream: the same (seed, pixel, sample) always gives
-// the same numbers, whatever thread runs it.
-struct Rng {
-    std::uint64_t key = 0, counter = 0;
-    Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) : key(hash(hash(seed, pixel), sample)) {}
-    double next() { return double(mix64(key + 0x9e3779b97f4a7c15ull * ++counter) >> 11) * 0x1.0p-53; }
-};
 
 inline double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
@@ -78,6 +64,6 @@ struct DeepSurface {
 void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_opaque,
                 std::vector<DeepSurface>& out);
 // Assembles the deep image from every pixel's surfaces (row-major over window).
-DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels);
+Result<DeepImage> make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels);
 
 }  // namespace gdof::rt

@@ -155,7 +155,7 @@ void deep_pixel(std::vector<Sample>& samples, const Vec3& environment, bool env_
     }
 }
 
-DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels) {
+Result<DeepImage> make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::vector<DeepSurface>>& pixels) {
     std::vector<ChannelSpec> specs;
     FlatLayout l = FlatLayout::make(aovs & ~RenderAov::Depth, specs);
     // Z and ZBack right after A (Z is always written in deep output).
@@ -165,7 +165,7 @@ DeepImage make_deep_image(const Roi& window, RenderAov aovs, std::vector<std::ve
     DeepImage deep(specs, window, window);
     std::vector<std::uint32_t> counts(pixels.size());
     for (std::size_t i = 0; i < pixels.size(); ++i) counts[i] = std::uint32_t(pixels[i].size());
-    deep.set_sample_counts(counts);
+    if (Status st = deep.set_sample_counts(counts); !st) return st;
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         std::size_t k = deep.first_sample(i);
         for (const DeepSurface& d : pixels[i]) {

@@ -2,12 +2,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
 #include <tiny_obj_loader.h>
 
 #include "gdof/scene.h"
+#include "gdof/text_file.h"
 
 namespace gdof {
 
@@ -29,12 +28,7 @@ std::string one_line(std::string s) {
 
 // tinyobjloader reads "nan" / "inf" / garbage coordinates as 0; check the
 // v / vn lines first so such files are errors that name the line.
-Status check_coordinates(const std::string& path, const std::string& where) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Status::error(where + ": cannot be opened");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
+Status check_coordinates(const std::string& text, const std::string& where) {
     std::size_t line = 0, pos = 0;
     while (pos < text.size()) {
         std::size_t end = text.find_first_of("\r\n", pos);
@@ -68,7 +62,9 @@ Result<ObjModel> load_obj(const std::string& path) {
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;  // quads and n-gons become fans
     config.vertex_color = false;
-    if (Status st = check_coordinates(path, where); !st) return st;
+    const Result<std::string> text = read_text(path, "OBJ");
+    if (!text) return text.status();
+    if (Status st = check_coordinates(text.value(), where); !st) return st;
     tinyobj::ObjReader reader;
     if (!reader.ParseFromFile(path, config)) {
         std::string err = one_line(reader.Error());

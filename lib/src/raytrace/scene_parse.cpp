@@ -1,18 +1,15 @@
-// Scene JSON -> gdof::Scene (format: docs/scene.md). Meshes are read and
-// flattened to world space here.
+// Scene JSON -> gdof::Scene (format: docs/scene.md), read with json_read.
+// Meshes are read and flattened to world space here.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <numbers>
-#include <set>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
+#include <optional>
 
 #include "gdof/scene.h"
-#include "common/json_util.h"
+#include "gdof/text_file.h"
+#include "common/json_read.h"
 
 namespace gdof {
 
@@ -20,78 +17,62 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using namespace json_util;
+using json_read::Object;
+using json_read::Value;
+using json_read::fail;
 
-void check_keys(const json& j, const std::string& key, const std::set<std::string>& allowed) {
-    if (!j.is_object()) fail(key, "must be an object");
-    for (auto it = j.begin(); it != j.end(); ++it)
-        if (!allowed.count(it.key())) fail(key.empty() ? it.key() : key + "." + it.key(), "unknown key");
-}
-
-double number(const json& j, const std::string& key) {
-    if (!j.is_number()) fail(key, "must be a number");
-    double v = j.get<double>();
-    if (!std::isfinite(v)) fail(key, "must be finite");
-    return v;
-}
-
-double positive(const json& j, const std::string& key) {
-    double v = number(j, key);
-    if (v <= 0) fail(key, "must be > 0, got " + j.dump());
-    return v;
-}
-
-Vec3 vec3(const json& j, const std::string& key) {
-    if (!j.is_array() || j.size() != 3) fail(key, "must be an array of 3 numbers");
-    return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
+// One number for all three components, or [x, y, z].
+Vec3 uniform_or_vec3(const Value& v) {
+    if (!v.raw().is_number()) return v.vec3();
+    const double d = v.number();
+    return {d, d, d};
 }
 
 // A colour: [r, g, b] or one number for grey; every value in 0..kMaxSceneColour.
-Vec3 colour(const json& j, const std::string& key) {
-    Vec3 c = j.is_number() ? Vec3{number(j, key), number(j, key), number(j, key)} : vec3(j, key);
-    if (c.x < 0 || c.y < 0 || c.z < 0) fail(key, "must be >= 0");
+Vec3 colour(const Value& v) {
+    const Vec3 c = uniform_or_vec3(v);
+    if (c.x < 0 || c.y < 0 || c.z < 0) v.fail("must be >= 0");
     if (std::max({c.x, c.y, c.z}) > kMaxSceneColour)
-        fail(key, "must be <= 1e20 (the float beauty would overflow), got " + j.dump());
+        v.fail("must be <= 1e20 (the float beauty would overflow), got " + v.raw().dump());
     return c;
 }
 
-CameraDesc parse_camera(const json& j) {
-    check_keys(j, "camera", {"position", "look_at", "up", "focal_length_mm", "sensor_width_mm", "hfov_deg",
-                             "resolution", "f_number", "focus_distance", "scene_unit_mm"});
+CameraDesc parse_camera(const Value& v) {
+    const Object o = v.object({"position", "look_at", "up", "focal_length_mm", "sensor_width_mm", "hfov_deg",
+                               "resolution", "f_number", "focus_distance", "scene_unit_mm"},
+                              {"position", "look_at"});
     CameraDesc d;
-    if (!j.contains("position")) fail("camera.position", "missing");
-    if (!j.contains("look_at")) fail("camera.look_at", "missing");
-    d.position = vec3(j["position"], "camera.position");
-    d.look_at = vec3(j["look_at"], "camera.look_at");
-    if (j.contains("up")) d.up = vec3(j["up"], "camera.up");
-    if (j.contains("focal_length_mm")) d.focal_length_mm = positive(j["focal_length_mm"], "camera.focal_length_mm");
-    if (j.contains("sensor_width_mm")) d.sensor_width_mm = positive(j["sensor_width_mm"], "camera.sensor_width_mm");
-    if (j.contains("hfov_deg")) {
-        d.hfov_deg = positive(j["hfov_deg"], "camera.hfov_deg");
-        if (d.hfov_deg >= 180) fail("camera.hfov_deg", "must be < 180");
+    d.position = o.get("position").vec3();
+    d.look_at = o.get("look_at").vec3();
+    if (const auto x = o.find("up")) d.up = x->vec3();
+    if (const auto x = o.find("focal_length_mm")) d.focal_length_mm = x->positive();
+    if (const auto x = o.find("sensor_width_mm")) d.sensor_width_mm = x->positive();
+    if (const auto x = o.find("hfov_deg")) {
+        d.hfov_deg = x->positive();
+        if (d.hfov_deg >= 180) x->fail("must be < 180");
     }
-    if (j.contains("resolution")) {
-        const json& r = j["resolution"];
+    if (const auto x = o.find("resolution")) {
+        const json_read::json& r = x->raw();
         if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer() ||
             r[0].get<long>() <= 0 || r[1].get<long>() <= 0 || r[0].get<long>() > 65536 || r[1].get<long>() > 65536)
-            fail("camera.resolution", "must be [width, height], positive integers up to 65536");
+            x->fail("must be [width, height], positive integers up to 65536");
         d.display_window = {0, 0, r[0].get<int>(), r[1].get<int>()};
     }
-    if (j.contains("f_number")) d.f_number = positive(j["f_number"], "camera.f_number");
-    if (j.contains("focus_distance")) d.focus_distance = positive(j["focus_distance"], "camera.focus_distance");
-    if (j.contains("scene_unit_mm")) d.scene_unit_mm = positive(j["scene_unit_mm"], "camera.scene_unit_mm");
+    if (const auto x = o.find("f_number")) d.f_number = x->positive();
+    if (const auto x = o.find("focus_distance")) d.focus_distance = x->positive();
+    if (const auto x = o.find("scene_unit_mm")) d.scene_unit_mm = x->positive();
     Vec3 fwd = d.look_at - d.position;
     if (length(fwd) <= 0) fail("camera.look_at", "must differ from camera.position");
     if (length(cross(normalize(fwd), d.up)) < 1e-9) fail("camera.up", "must not be parallel to the viewing direction");
     return d;
 }
 
-Material parse_material(const json& j, const std::string& key, const std::string& name) {
-    check_keys(j, key, {"kd", "ke"});
+Material parse_material(const Value& v, const std::string& name) {
+    const Object o = v.object({"kd", "ke"});
     Material m;
     m.name = name;
-    if (j.contains("kd")) m.kd = colour(j["kd"], key + ".kd");
-    if (j.contains("ke")) m.ke = colour(j["ke"], key + ".ke");
+    if (const auto x = o.find("kd")) m.kd = colour(*x);
+    if (const auto x = o.find("ke")) m.ke = colour(*x);
     return m;
 }
 
@@ -142,38 +123,34 @@ struct Builder {
         return std::uint32_t(scene.materials.size() - 1);
     }
 
-    void parse_mesh(const json& j, std::size_t index) {
-        const std::string key = "meshes[" + std::to_string(index) + "]";
-        check_keys(j, key, {"file", "name", "translate", "rotate_deg", "scale", "material"});
-        if (!j.contains("file") || !j["file"].is_string()) fail(key + ".file", "missing (the OBJ file to load)");
-        std::string file = j["file"].get<std::string>();
+    void parse_mesh(const Value& item) {
+        const Object o = item.object({"file", "name", "translate", "rotate_deg", "scale", "material"});
+        const std::string& key = o.path();
+        std::string file = o.get("file", "the OBJ file to load").string();
         fs::path p(file);
         if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;
-        if (!fs::exists(p)) fail(key + ".file", "mesh file '" + p.string() + "' not found");
+        if (!fs::exists(p)) fail(o.path("file"), "mesh file '" + p.string() + "' not found", StatusCode::NotFound);
         Transform xf;
-        if (j.contains("translate")) xf.translate = vec3(j["translate"], key + ".translate");
-        if (j.contains("rotate_deg")) xf.rotate_deg = vec3(j["rotate_deg"], key + ".rotate_deg");
-        if (j.contains("scale")) {
-            const json& s = j["scale"];
-            xf.scale = s.is_number() ? Vec3{number(s, key + ".scale"), number(s, key + ".scale"),
-                                            number(s, key + ".scale")}
-                                     : vec3(s, key + ".scale");
-            if (xf.scale.x == 0 || xf.scale.y == 0 || xf.scale.z == 0) fail(key + ".scale", "must not be 0");
+        if (const auto x = o.find("translate")) xf.translate = x->vec3();
+        if (const auto x = o.find("rotate_deg")) xf.rotate_deg = x->vec3();
+        if (const auto x = o.find("scale")) {
+            xf.scale = uniform_or_vec3(*x);
+            if (xf.scale.x == 0 || xf.scale.y == 0 || xf.scale.z == 0) x->fail("must not be 0");
         }
         xf.build();
         std::optional<std::uint32_t> override_mat;
-        if (j.contains("material")) {
-            const json& m = j["material"];
-            if (m.is_string()) {
-                auto it = named.find(m.get<std::string>());
-                if (it == named.end()) fail(key + ".material", "no material '" + m.get<std::string>() + "' in materials");
+        if (const auto m = o.find("material")) {
+            if (m->raw().is_string()) {
+                const std::string name = m->string();
+                auto it = named.find(name);
+                if (it == named.end()) m->fail("no material '" + name + "' in materials", StatusCode::NotFound);
                 override_mat = it->second;
             } else {
-                override_mat = add_material(parse_material(m, key + ".material", key));
+                override_mat = add_material(parse_material(*m, key));
             }
         }
         Result<ObjModel> obj = load_obj(p.string());
-        if (!obj) fail(key + ".file", obj.message());
+        if (!obj) fail(o.path("file"), obj.status());
         const ObjModel& model = obj.value();
 
         // Materials of this OBJ, added once.
@@ -183,8 +160,8 @@ struct Builder {
             for (const Material& m : model.materials) mat_index.push_back(add_material(m));
 
         TriangleMesh mesh;
-        std::string label = j.contains("name") && j["name"].is_string() ? j["name"].get<std::string>()
-                                                                         : p.filename().string();
+        const auto name = o.find("name");
+        std::string label = name && name->raw().is_string() ? name->string() : p.filename().string();
         mesh.name = key + " (" + label + ")";
         const std::size_t nv = model.positions.size() / 3;
         mesh.positions.resize(model.positions.size());
@@ -234,53 +211,37 @@ struct Builder {
         scene.meshes.push_back(std::move(mesh));
     }
 
-    void parse_light(const json& j, std::size_t index) {
-        const std::string key = "lights[" + std::to_string(index) + "]";
-        if (!j.is_object()) fail(key, "must be an object");
-        if (!j.contains("type") || !j["type"].is_string()) fail(key + ".type", "missing (\"point\")");
-        const std::string type = j["type"].get<std::string>();
-        if (type != "point") fail(key + ".type", "unknown light type '" + type + "' (known: point; area lights are emissive materials)");
-        check_keys(j, key, {"type", "position", "intensity"});
+    void parse_light(const Value& v) {
+        const Object o = v.object();
+        const Value t = o.get("type", "\"point\"");
+        const std::string type = t.string();
+        if (type != "point") t.fail("unknown light type '" + type + "' (known: point; area lights are emissive materials)");
+        o.allow_only({"type", "position", "intensity"});
         PointLight l;
-        if (!j.contains("position")) fail(key + ".position", "missing");
-        l.position = vec3(j["position"], key + ".position");
-        if (j.contains("intensity")) l.intensity = colour(j["intensity"], key + ".intensity");
+        l.position = o.get("position").vec3();
+        if (const auto x = o.find("intensity")) l.intensity = colour(*x);
         scene.point_lights.push_back(l);
     }
 
-    void parse(const json& root) {
-        check_keys(root, "", {"camera", "meshes", "materials", "lights", "environment"});
-        if (!root.contains("camera")) fail("camera", "missing");
-        scene.camera_desc = parse_camera(root["camera"]);
+    void parse(const Value& root) {
+        const Object o = root.object({"camera", "meshes", "materials", "lights", "environment"});
+        const Value camera = o.get("camera");
+        scene.camera_desc = parse_camera(camera);
         auto cam = Camera::create(scene.camera_desc);
-        if (!cam) fail("camera", cam.message());
+        if (!cam) camera.fail(cam.message(), cam.status().code());
         scene.camera = cam.value();
-        if (root.contains("materials")) {
-            const json& ms = root["materials"];
-            if (!ms.is_object()) fail("materials", "must be an object of name: {kd, ke}");
-            for (auto it = ms.begin(); it != ms.end(); ++it)
-                named[it.key()] = add_material(parse_material(it.value(), "materials." + it.key(), it.key()));
+        if (const auto ms = o.find("materials")) {
+            if (!ms->raw().is_object()) ms->fail("must be an object of name: {kd, ke}");
+            const Object materials = ms->object();
+            for (const std::string& name : materials.keys())
+                named[name] = add_material(parse_material(materials.get(name), name));
         }
-        if (root.contains("environment")) scene.environment = colour(root["environment"], "environment");
-        if (!root.contains("meshes") || !root["meshes"].is_array() || root["meshes"].empty())
-            fail("meshes", "missing (a non-empty array of meshes)");
-        for (std::size_t i = 0; i < root["meshes"].size(); ++i) parse_mesh(root["meshes"][i], i);
-        if (root.contains("lights")) {
-            if (!root["lights"].is_array()) fail("lights", "must be an array");
-            for (std::size_t i = 0; i < root["lights"].size(); ++i) parse_light(root["lights"][i], i);
-        }
+        if (const auto x = o.find("environment")) scene.environment = colour(*x);
+        for (const Value& m : o.get("meshes", "a non-empty array of meshes").non_empty_array("meshes")) parse_mesh(m);
+        if (const auto ls = o.find("lights"))
+            for (const Value& l : ls->array()) parse_light(l);
     }
 };
-
-// "line L, column C" for a byte offset into the text.
-std::string line_col(std::string_view text, std::size_t byte) {
-    std::size_t line = 1, col = 1;
-    for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-        if (text[i] == '\n') ++line, col = 1;
-        else ++col;
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(col);
-}
 
 }  // namespace
 
@@ -298,35 +259,19 @@ std::size_t Scene::emissive_triangle_count() const {
 }
 
 Result<Scene> parse_scene(std::string_view json_text, const std::string& base_dir, const std::string& source) {
-    json root;
-    try {
-        root = json::parse(json_text.begin(), json_text.end());
-    } catch (const json::parse_error& e) {
-        std::string what = e.what();
-        auto pos = what.find("syntax error");
-        return Status::error(source + ": malformed JSON at " + line_col(json_text, e.byte > 0 ? e.byte - 1 : 0) +
-                             (pos != std::string::npos ? ": " + what.substr(pos) : std::string()));
-    }
-    Builder b;
-    b.base_dir = base_dir;
-    try {
+    return json_read::read_document(json_text, source, [&](const Value& root) {
+        Builder b;
+        b.base_dir = base_dir;
         b.parse(root);
-    } catch (const JsonError& e) {
-        return Status::error(source + ": " + e.message);
-    } catch (const json::exception& e) {
-        return Status::error(source + ": " + e.what());
-    }
-    return std::move(b.scene);
+        return std::move(b.scene);
+    });
 }
 
 Result<Scene> load_scene(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Status::error("scene '" + path + "': cannot be opened");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
+    const Result<std::string> text = read_text(path, "scene");
+    if (!text) return text.status();
     fs::path dir = fs::path(path).parent_path();
-    auto r = parse_scene(text, dir.string(), "scene '" + path + "'");
+    auto r = parse_scene(text.value(), dir.string(), "scene '" + path + "'");
     if (r) r.value().path = path;
     return r;
 }

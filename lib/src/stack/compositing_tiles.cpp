@@ -1,48 +1,40 @@
 // Method 2, step 3 (compositing.h): tile by tile, each tile reads only the
-// references its pixels chose and copies (hard pick) or blends (soft mode).
-// Also the in-memory reference source.
+// references its pixels chose and copies (hard pick) or blends (soft mode),
+// into planes that may be an Image's or a caller's strided memory.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
-#include <cmath>
 #include <string>
 #include <vector>
 
+#include "compositing_internal.h"
 #include "gdof/compositing.h"
 
 namespace gdof {
 
-MemoryStackPixels::MemoryStackPixels(std::vector<const Image*> images)
-    : images_(std::move(images)), reads_(images_.size()) {}
+namespace detail {
 
-long MemoryStackPixels::reads(int ref) const { return reads_[std::size_t(ref)].load(); }
-
-Status MemoryStackPixels::read_tile(int ref, const Roi& tile, float* rgba) {
-    if (ref < 0 || ref >= size()) return Status::error("reference " + std::to_string(ref) + " out of range");
-    reads_[std::size_t(ref)].fetch_add(1);
-    const Image& img = *images_[std::size_t(ref)];
-    const Image& first = *images_[0];
-    if (img.width() != first.width() || img.height() != first.height())
-        return Status::error("reference " + std::to_string(ref) + " is " + std::to_string(img.width()) + "x" +
-                             std::to_string(img.height()) + " but reference 0 is " + std::to_string(first.width()) +
-                             "x" + std::to_string(first.height()));
-    if (tile.x0 < 0 || tile.y0 < 0 || tile.x1 > img.width() || tile.y1 > img.height())
-        return Status::error("tile " + to_string(tile) + " outside the reference");
-    const RgbaIndices c = find_rgba(img);
-    const int ch[4] = {c.r, c.g, c.b, c.a};
-    const Roi dw = img.data_window();
-    float* out = rgba;
-    for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            for (int k = 0; k < 4; ++k) {
-                const int cc = ch[k];
-                *out++ = cc >= 0 ? img.sample(cc, dw.x0 + x, dw.y0 + y) : (k == 3 ? 1.0f : 0.0f);
-            }
-        }
-    return Status::ok();
+CompositePlanes image_planes(Image& img) {
+    CompositePlanes p;
+    p.count = std::min(img.nchannels(), 6);
+    const Roi& dw = img.data_window();
+    for (int c = 0; c < p.count; ++c)
+        p.channel[c] = {img.plane(c), 1, {0, 0, dw.width(), dw.height()}, 0, 1, std::ptrdiff_t(dw.width())};
+    return p;
 }
 
-Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, const CompositeOptions& settings,
-                              int origin_x, int origin_y, CompositeStats* stats, const Exec& exec) {
+CompositePlanes view_planes(const ImageView& view, const Roi& region) {
+    CompositePlanes p;
+    p.count = std::min(view.nchannels, 6);
+    const Roi local{0, 0, region.width(), region.height()};
+    for (int c = 0; c < p.count; ++c)
+        p.channel[c] = {region.empty() ? nullptr : &view.at(c, region.x0, region.y0), 1, local, 0, view.xstride,
+                        view.ystride};
+    return p;
+}
+
+Status composite_tiles(const StackSelection& sel, StackPixels& pixels, const CompositeOptions& settings,
+                       const CompositePlanes& out, CompositeStats* stats, const Exec& exec) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     const int nrefs = pixels.size();
@@ -53,15 +45,14 @@ Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, co
     const int T = std::max(8, settings.tile_size);
     const int k = sel.k;
     const bool soft = !sel.weight.empty();
+    const int ncolour = std::min(out.count, 4);
+    if (Status st = pixels.prepare(sel.used_references(), {0, 0, W, H}); !st) return st;
 
-    std::vector<std::string> names = {"R", "G", "B", "A"};
-    if (settings.aovs) {
-        names.push_back("stack.index");
-        names.push_back("stack.deviation");
-    }
-    const Roi dw{origin_x, origin_y, origin_x + W, origin_y + H};
-    Image out = Image::with_channels(names, dw);
-    float* plane[4] = {out.plane(0), out.plane(1), out.plane(2), out.plane(3)};
+    // Output sample (channel c, local pixel x, y).
+    auto put = [&out](int c, int x, int y) -> float& {
+        const ImageView& v = out.channel[c];
+        return v.base[std::ptrdiff_t(x) * v.xstride + std::ptrdiff_t(y) * v.ystride];
+    };
 
     const int tx = (W + T - 1) / T, ty = (H + T - 1) / T;
     const long ntiles = long(tx) * long(ty);
@@ -103,16 +94,16 @@ Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, co
                         const std::size_t o = p * std::size_t(k);
                         if (!soft) {
                             if (sel.index[o] != ref) continue;
-                            for (int c = 0; c < 4; ++c) plane[c][p] = src[c];
+                            for (int c = 0; c < ncolour; ++c) put(c, x, y) = src[c];
                             continue;
                         }
                         for (int s = 0; s < k; ++s) {
                             if (sel.index[o + std::size_t(s)] != ref) continue;
                             const float w = sel.weight[o + std::size_t(s)];
                             if (w == 1.0f) {
-                                for (int c = 0; c < 4; ++c) plane[c][p] = src[c];
+                                for (int c = 0; c < ncolour; ++c) put(c, x, y) = src[c];
                             } else {
-                                for (int c = 0; c < 4; ++c) plane[c][p] += w * src[c];
+                                for (int c = 0; c < ncolour; ++c) put(c, x, y) += w * src[c];
                             }
                         }
                     }
@@ -125,14 +116,13 @@ Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, co
     for (const Status& e : errors)
         if (!e) return e;
 
-    if (settings.aovs) {
-        float* pi = out.plane(4);
-        float* pd = out.plane(5);
-        for (std::size_t p = 0; p < sel.window.npixels(); ++p) {
-            pi[p] = float(sel.index[p * std::size_t(k)]);
-            pd[p] = sel.deviation[p];
-        }
-    }
+    if (settings.aovs && out.count >= 6)
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t p = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                put(4, x, y) = float(sel.index[p * std::size_t(k)]);
+                put(5, x, y) = sel.deviation[p];
+            }
     if (stats) {
         stats->references = nrefs;
         stats->references_used = sel.references_used();
@@ -140,6 +130,22 @@ Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, co
         stats->tile_reads = reads.load();
         stats->composite_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     }
+    return Status::ok();
+}
+
+}  // namespace detail
+
+Result<Image> composite_stack(const StackSelection& sel, StackPixels& pixels, const CompositeOptions& settings,
+                              int origin_x, int origin_y, CompositeStats* stats, const Exec& exec) {
+    std::vector<std::string> names = {"R", "G", "B", "A"};
+    if (settings.aovs) {
+        names.push_back("stack.index");
+        names.push_back("stack.deviation");
+    }
+    Image out = Image::with_channels(
+        names, {origin_x, origin_y, origin_x + sel.window.width(), origin_y + sel.window.height()});
+    if (Status st = detail::composite_tiles(sel, pixels, settings, detail::image_planes(out), stats, exec); !st)
+        return st;
     return out;
 }
 

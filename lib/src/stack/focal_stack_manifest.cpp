@@ -1,58 +1,30 @@
 // Focus/aperture stack manifests (focal_stack.h): JSON <-> FocalStack.
-// Errors name the key path ("references[3].f_number: must be > 0, got -2");
-// malformed JSON reports nlohmann's byte position.
-#include <nlohmann/json.hpp>
-
+// Read with json_read: errors name the key path ("stack manifest:
+// references[3].f_number: must be > 0, got -2"); malformed JSON gives the
+// line and column.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <string>
 #include <vector>
 
 #include "gdof/camera.h"
 #include "gdof/focal_stack.h"
-#include "common/json_util.h"
+#include "common/json_read.h"
 
 namespace gdof {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using json_read::Infinity;
+using json_read::Object;
+using json_read::Value;
+using json_read::fail;
+const auto& num = json_read::format_number;
 
-using namespace json_util;
-const auto& num = format_number;
-
-void allow_only(const json& j, const std::string& path, const std::vector<std::string>& keys) {
-    for (auto it = j.begin(); it != j.end(); ++it)
-        if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) {
-            std::string list;
-            for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-            fail(path.empty() ? it.key() : path + "." + it.key(), "unknown key (allowed: " + list + ")");
-        }
-}
-
-// A finite number, or (allow_inf) the string "inf" / a JSON number that is +inf.
-double number(const json& v, const std::string& path, bool allow_inf = false) {
-    if (allow_inf && v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "infinity"))
-        return kInf;
-    if (!v.is_number()) fail(path, std::string("must be a number") + (allow_inf ? " or \"inf\"" : "") + ", got " + type_name(v));
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(path, "must be finite, got " + num(d));
-    return d;
-}
-
-double positive(const json& v, const std::string& path) {
-    const double d = number(v, path);
-    if (!(d > 0)) fail(path, "must be > 0, got " + num(d));
-    return d;
-}
-
-int dimension(const json& v, const std::string& path) {
-    if (!v.is_number_integer()) fail(path, "must be an integer, got " + type_name(v));
-    const long long n = v.get<long long>();
-    if (n < 0 || n > 1000000) fail(path, "must be 0 (unknown) to 1000000, got " + std::to_string(n));
+int dimension(const Value& v) {
+    const long long n = v.integer();
+    if (n < 0 || n > 1000000) v.fail("must be 0 (unknown) to 1000000, got " + std::to_string(n));
     return int(n);
 }
 
@@ -68,45 +40,34 @@ std::string join_path(const std::string& base, const std::string& file) {
     return (fs::path(base) / p).lexically_normal().string();
 }
 
-StackReference parse_reference(const json& j, const std::string& path, const FocalStack& stack) {
-    if (!j.is_object()) fail(path, "must be an object, got " + type_name(j));
-    allow_only(j, path,
-               {"file", "focus_distance", "f_number", "focal_length_mm", "sensor_width_mm", "near", "far",
-                "focus_disparity", "aperture_radius_views", "comment"});
+StackReference parse_reference(const Value& v, const FocalStack& stack) {
+    const Object o = v.object({"file", "focus_distance", "f_number", "focal_length_mm", "sensor_width_mm", "near", "far",
+                               "focus_disparity", "aperture_radius_views", "comment"},
+                              {"file"});
+    const std::string& path = o.path();
+    auto key = [&](const char* k) { return o.path(k); };
     StackReference r;
-    auto key = [&](const char* k) { return path + "." + k; };
-    if (!j.contains("file")) fail(key("file"), "missing required key");
-    if (!j["file"].is_string() || j["file"].get<std::string>().empty())
-        fail(key("file"), "must be a non-empty string, got " + type_name(j["file"]));
-    r.file = j["file"].get<std::string>();
+    const Value file = o.get("file");
+    if (!file.raw().is_string() || file.raw().get<std::string>().empty())
+        file.fail("must be a non-empty string, got " + json_read::type_name(file.raw()));
+    r.file = file.string();
     r.path = join_path(stack.base_dir, r.file);
 
-    if (j.contains("focus_distance")) r.focus_distance = positive(j["focus_distance"], key("focus_distance"));
-    if (j.contains("f_number")) r.f_number = positive(j["f_number"], key("f_number"));
-    if (j.contains("focal_length_mm")) r.focal_length_mm = positive(j["focal_length_mm"], key("focal_length_mm"));
-    if (j.contains("sensor_width_mm")) r.sensor_width_mm = positive(j["sensor_width_mm"], key("sensor_width_mm"));
-    if (j.contains("near")) {
-        r.near = number(j["near"], key("near"));
-        if (r.near < 0) fail(key("near"), "must be >= 0, got " + num(r.near));
-    }
-    if (j.contains("far")) {
-        r.far = number(j["far"], key("far"), true);
-        if (r.far < 0) fail(key("far"), "must be >= 0, got " + num(r.far));
-    }
-    if (j.contains("focus_disparity")) r.focus_disparity = number(j["focus_disparity"], key("focus_disparity"));
-    if (j.contains("aperture_radius_views")) {
-        r.aperture_radius_views = number(j["aperture_radius_views"], key("aperture_radius_views"));
-        if (r.aperture_radius_views < 0)
-            fail(key("aperture_radius_views"), "must be >= 0, got " + num(r.aperture_radius_views));
-    }
+    if (const auto x = o.find("focus_distance")) r.focus_distance = x->positive();
+    if (const auto x = o.find("f_number")) r.f_number = x->positive();
+    if (const auto x = o.find("focal_length_mm")) r.focal_length_mm = x->positive();
+    if (const auto x = o.find("sensor_width_mm")) r.sensor_width_mm = x->positive();
+    if (const auto x = o.find("near")) r.near = x->non_negative();
+    if (const auto x = o.find("far")) r.far = x->non_negative(Infinity::Allowed);
+    if (const auto x = o.find("focus_disparity")) r.focus_disparity = x->number();
+    if (const auto x = o.find("aperture_radius_views")) r.aperture_radius_views = x->non_negative();
 
     const bool explicit_limits = !std::isnan(r.near) && !std::isnan(r.far);
     if (!explicit_limits) {
         // From the thin lens: everything it needs must be known.
-        if (std::isnan(r.focus_distance))
-            fail(key("focus_distance"), "missing required key (needed to compute near/far from the thin lens)");
-        if (std::isnan(r.f_number))
-            fail(key("f_number"), "missing required key (needed to compute near/far from the thin lens)");
+        const char* why = "needed to compute near/far from the thin lens";
+        if (std::isnan(r.focus_distance)) o.require("focus_distance", why);
+        if (std::isnan(r.f_number)) o.require("f_number", why);
         ThinLens lens;
         lens.focus_distance = r.focus_distance;
         lens.f_number = r.f_number;
@@ -116,14 +77,17 @@ StackReference parse_reference(const json& j, const std::string& path, const Foc
         lens.image_width_px = stack.width;
         if (std::isnan(lens.focal_length_mm))
             fail(key("focal_length_mm"),
-                 "missing (give it here or at the top level, or give \"near\" and \"far\" explicitly)");
+                 "missing (give it here or at the top level, or give \"near\" and \"far\" explicitly)",
+                 StatusCode::NotFound);
         if (std::isnan(lens.sensor_width_mm))
             fail(key("sensor_width_mm"),
-                 "missing (give it here or at the top level, or give \"near\" and \"far\" explicitly)");
+                 "missing (give it here or at the top level, or give \"near\" and \"far\" explicitly)",
+                 StatusCode::NotFound);
         if (stack.width <= 0)
             fail("width", "missing or 0: the image width in pixels is needed to compute " + path +
-                              ".near/far from the thin lens for coc_px");
-        if (Status s = lens.validate(); !s) fail(path, "thin lens: " + s.message());
+                              ".near/far from the thin lens for coc_px",
+                 StatusCode::NotFound);
+        if (Status s = lens.validate(); !s) fail(path, "thin lens: " + s.message(), s.code());
         const ThinLens::DofLimits lim = lens.dof_limits(stack.coc_px);
         if (std::isnan(r.near)) r.near = lim.near;
         if (std::isnan(r.far)) r.far = lim.far;
@@ -170,44 +134,28 @@ void put(nlohmann::ordered_json& j, const char* key, double v) {
 }  // namespace
 
 Result<FocalStack> parse_stack_manifest(const std::string& text, const std::string& base_dir) {
-    json j;
-    try {
-        j = json::parse(text);
-    } catch (const json::exception& e) {
-        return Status::error(std::string("stack manifest JSON: ") + e.what());
-    }
-    try {
-        if (!j.is_object()) fail("top level", "must be an object {\"gdof_stack\": 1, \"references\": [...]}, got " + type_name(j));
-        allow_only(j, "",
-                   {"gdof_stack", "coc_px", "scene_unit_mm", "focal_length_mm", "sensor_width_mm", "width", "height",
-                    "references", "comment", "source"});
+    return json_read::read_document(text, "stack manifest", [&](const Value& root) {
+        if (!root.raw().is_object())
+            root.fail("must be an object {\"gdof_stack\": 1, \"references\": [...]}, got " + json_read::type_name(root.raw()));
+        const Object o = root.object({"gdof_stack", "coc_px", "scene_unit_mm", "focal_length_mm", "sensor_width_mm",
+                                      "width", "height", "references", "comment", "source"});
         FocalStack s;
         s.base_dir = base_dir;
-        if (j.contains("gdof_stack")) {
-            const json& v = j["gdof_stack"];
-            if (!v.is_number_integer() || v.get<long long>() != 1)
-                fail("gdof_stack", "unsupported manifest version " + v.dump() + " (this gdof reads version 1)");
-        }
-        if (j.contains("coc_px")) {
-            s.coc_px = number(j["coc_px"], "coc_px");
-            if (s.coc_px < 0) fail("coc_px", "must be >= 0, got " + num(s.coc_px));
-        }
-        if (j.contains("scene_unit_mm")) s.scene_unit_mm = positive(j["scene_unit_mm"], "scene_unit_mm");
-        if (j.contains("focal_length_mm")) s.focal_length_mm = positive(j["focal_length_mm"], "focal_length_mm");
-        if (j.contains("sensor_width_mm")) s.sensor_width_mm = positive(j["sensor_width_mm"], "sensor_width_mm");
-        if (j.contains("width")) s.width = dimension(j["width"], "width");
-        if (j.contains("height")) s.height = dimension(j["height"], "height");
-        if (!j.contains("references")) fail("references", "missing required key");
-        const json& refs = j["references"];
-        if (!refs.is_array()) fail("references", "must be an array, got " + type_name(refs));
-        if (refs.empty()) fail("references", "must list at least one reference image");
-        for (std::size_t i = 0; i < refs.size(); ++i)
-            s.references.push_back(parse_reference(refs[i], "references[" + std::to_string(i) + "]", s));
+        if (const auto v = o.find("gdof_stack"); v && (!v->raw().is_number_integer() || v->raw().get<long long>() != 1))
+            v->fail("unsupported manifest version " + v->raw().dump() + " (this gdof reads version 1)");
+        if (const auto v = o.find("coc_px")) s.coc_px = v->non_negative();
+        if (const auto v = o.find("scene_unit_mm")) s.scene_unit_mm = v->positive();
+        if (const auto v = o.find("focal_length_mm")) s.focal_length_mm = v->positive();
+        if (const auto v = o.find("sensor_width_mm")) s.sensor_width_mm = v->positive();
+        if (const auto v = o.find("width")) s.width = dimension(*v);
+        if (const auto v = o.find("height")) s.height = dimension(*v);
+        const Value refs = o.get("references");
+        const std::vector<Value> list = refs.array();
+        if (list.empty()) refs.fail("must list at least one reference image");
+        for (const Value& r : list) s.references.push_back(parse_reference(r, s));
         check_duplicates(s);
         return s;
-    } catch (const JsonError& e) {
-        return Status::error("stack manifest: " + e.message);
-    }
+    });
 }
 
 std::string format_stack_manifest(const FocalStack& stack) {

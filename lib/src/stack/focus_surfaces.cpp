@@ -1,16 +1,14 @@
 // Bicubic B-spline focus surfaces (focus_surfaces.h): evaluation, the
-// interpolating prefilter, the surfaces JSON, and near/far maps.
-#include <nlohmann/json.hpp>
-
+// interpolating prefilter, the surfaces JSON (read with json_read), and
+// near/far maps.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "gdof/focus_surfaces.h"
-#include "common/json_util.h"
+#include "common/json_read.h"
 
 namespace gdof {
 
@@ -66,47 +64,33 @@ void prefilter_line(double* d, int n, std::ptrdiff_t stride) {
     for (int i = 1; i <= n - 2; ++i) d[i * stride] = r[std::size_t(i)];
 }
 
-using namespace json_util;
+using json_read::Infinity;
+using json_read::Object;
+using json_read::Value;
 
-double depth_value(const nlohmann::json& v, const std::string& path) {
-    if (v.is_string() && (v.get<std::string>() == "inf" || v.get<std::string>() == "infinity")) return kInf;
-    if (!v.is_number()) fail(path, "must be a depth (number) or \"inf\", got " + type_name(v));
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(path, "must be finite or \"inf\"");
-    if (d < 0) fail(path, "must be >= 0 (a depth in scene units), got " + std::to_string(d));
-    return d;
-}
+// A depth in scene units: a number >= 0, or "inf".
+double depth_value(const Value& v) { return v.non_negative(Infinity::Allowed); }
 
-BSplineSurface parse_surface(const nlohmann::json& j, const std::string& path, bool interpolate) {
-    if (j.is_number() || j.is_string()) return BSplineSurface::constant(depth_value(j, path));
-    if (!j.is_object()) fail(path, "must be a number, \"inf\" or an object {\"grid\": [[...], ...]}, got " + type_name(j));
-    for (auto it = j.begin(); it != j.end(); ++it)
-        if (it.key() != "grid" && it.key() != "interpolate" && it.key() != "comment")
-            fail(path + "." + it.key(), "unknown key (allowed: grid, interpolate, comment)");
-    if (j.contains("interpolate")) {
-        if (!j["interpolate"].is_boolean()) fail(path + ".interpolate", "must be true or false, got " + type_name(j["interpolate"]));
-        interpolate = j["interpolate"].get<bool>();
-    }
-    if (!j.contains("grid")) fail(path + ".grid", "missing required key");
-    const nlohmann::json& g = j["grid"];
-    const std::string gp = path + ".grid";
-    if (!g.is_array() || g.empty()) fail(gp, "must be a non-empty array of rows (top row first)");
-    const int ny = int(g.size());
+BSplineSurface parse_surface(const Value& v, bool interpolate) {
+    if (v.raw().is_number() || v.raw().is_string()) return BSplineSurface::constant(depth_value(v));
+    if (!v.raw().is_object())
+        v.fail("must be a number, \"inf\" or an object {\"grid\": [[...], ...]}, got " + json_read::type_name(v.raw()));
+    const Object o = v.object({"grid", "interpolate", "comment"});
+    if (const auto i = o.find("interpolate")) interpolate = i->boolean();
+    const Value grid = o.get("grid");
+    if (!grid.raw().is_array() || grid.raw().empty()) grid.fail("must be a non-empty array of rows (top row first)");
     int nx = -1;
     std::vector<double> values;
-    for (int r = 0; r < ny; ++r) {
-        const std::string rp = gp + "[" + std::to_string(r) + "]";
-        const nlohmann::json& row = g[std::size_t(r)];
-        if (!row.is_array() || row.empty()) fail(rp, "must be a non-empty array of depths, got " + type_name(row));
-        if (nx < 0) nx = int(row.size());
-        if (int(row.size()) != nx)
-            fail(rp, "has " + std::to_string(row.size()) + " values, row 0 has " + std::to_string(nx) +
-                         " (the grid must be rectangular)");
-        for (int c = 0; c < nx; ++c)
-            values.push_back(depth_value(row[std::size_t(c)], rp + "[" + std::to_string(c) + "]"));
+    for (const Value& row : grid.array()) {
+        const std::vector<Value> cells = row.non_empty_array("depths");
+        if (nx < 0) nx = int(cells.size());
+        if (int(cells.size()) != nx)
+            row.fail("has " + std::to_string(cells.size()) + " values, row 0 has " + std::to_string(nx) +
+                     " (the grid must be rectangular)");
+        for (const Value& c : cells) values.push_back(depth_value(c));
     }
-    auto s = BSplineSurface::create(nx, ny, std::move(values), interpolate);
-    if (!s) fail(path, s.message());
+    auto s = BSplineSurface::create(nx, int(grid.raw().size()), std::move(values), interpolate);
+    if (!s) v.fail(s.message());
     return std::move(s).value();
 }
 
@@ -183,35 +167,21 @@ double BSplineSurface::evaluate(double u, double v) const {
 }
 
 Result<FocusSurfaces> parse_focus_surfaces(const std::string& text) {
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception& e) {
-        return Status::error(std::string("surfaces JSON: ") + e.what());
-    }
-    try {
-        if (!j.is_object()) fail("top level", "must be an object {\"near\": ..., \"far\": ...}, got " + type_name(j));
-        for (auto it = j.begin(); it != j.end(); ++it) {
-            const std::string& k = it.key();
-            if (k != "gdof_surfaces" && k != "interpolate" && k != "near" && k != "far" && k != "comment")
-                fail(k, "unknown key (allowed: gdof_surfaces, interpolate, near, far, comment)");
-        }
-        if (j.contains("gdof_surfaces") && (!j["gdof_surfaces"].is_number_integer() || j["gdof_surfaces"].get<long long>() != 1))
-            fail("gdof_surfaces", "unsupported version " + j["gdof_surfaces"].dump() + " (this gdof reads version 1)");
+    return json_read::read_document(text, "surfaces", [](const Value& root) {
+        if (!root.raw().is_object())
+            root.fail("must be an object {\"near\": ..., \"far\": ...}, got " + json_read::type_name(root.raw()));
+        const Object o = root.object({"gdof_surfaces", "interpolate", "near", "far", "comment"});
+        if (const auto v = o.find("gdof_surfaces"); v && (!v->raw().is_number_integer() || v->raw().get<long long>() != 1))
+            v->fail("unsupported version " + v->raw().dump() + " (this gdof reads version 1)");
         bool interpolate = false;
-        if (j.contains("interpolate")) {
-            if (!j["interpolate"].is_boolean()) fail("interpolate", "must be true or false, got " + type_name(j["interpolate"]));
-            interpolate = j["interpolate"].get<bool>();
-        }
-        if (!j.contains("near")) fail("near", "missing required key");
-        if (!j.contains("far")) fail("far", "missing required key");
+        if (const auto v = o.find("interpolate")) interpolate = v->boolean();
+        o.require("near");
+        o.require("far");
         FocusSurfaces s;
-        s.near = parse_surface(j["near"], "near", interpolate);
-        s.far = parse_surface(j["far"], "far", interpolate);
+        s.near = parse_surface(o.get("near"), interpolate);
+        s.far = parse_surface(o.get("far"), interpolate);
         return s;
-    } catch (const JsonError& e) {
-        return Status::error("surfaces: " + e.message);
-    }
+    });
 }
 
 Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, int height, const Exec& exec) {

@@ -21,7 +21,7 @@ Result<Image> gaussian_layers(const Image& rgba_z, const BlurField& field, const
         const Image& img = l.image;
         if (img.data_window().empty()) continue;
         std::vector<float> radius(img.npixels());
-        if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, radius.data()); !st) return st;
+        if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, ImageView::planar(radius.data(), 1, img.data_window())); !st) return st;
         const int a = img.channel_index("A");
         double wsum = 0, rsum = 0;
         for (std::size_t i = 0; i < img.npixels(); ++i)

@@ -39,7 +39,8 @@ TEST(blur_field_parse, UnknownKeysAreNamed) {
     // Keys of another shape are unknown for this one.
     m = error_of(R"({"blurfield": {"kind": "region", "shape": "box", "center": [0,0,0], "size": [1,1,1],
                   "radius": 2, "blur": 1}})");
-    EXPECT_HAS(m, "blurfield.radius: unknown key for a box region");
+    EXPECT_HAS(m, "blurfield.radius: unknown key (allowed: kind, comment, shape, mode, blur, falloff, interpolation, min, max, "
+                  "center, size, rotation_deg)");
     // The bare node without the wrapper is rejected, naming the key.
     m = error_of("{" + kLens + "}");
     EXPECT_HAS(m, "blurfield: missing required key");
@@ -86,8 +87,7 @@ TEST(blur_field_parse, NonFiniteNumbersAreErrors) {
     EXPECT_HAS(m, "blurfield.focal_length_mm: must be a number, got string \"nan\"");
     m = error_of(R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": 50, "f_number": 2,
                      "focus_distance": 1e400}})");
-    EXPECT_HAS(m, "1e400");
-    EXPECT_HAS(m, "line 2");
+    EXPECT_HAS(m, "malformed JSON at line 2, column 40: number overflow parsing '1e400'");
     m = error_of(R"({"blurfield": {"kind": "region", "shape": "sphere", "center": [0, "inf", 0], "radius": 1, "blur": 1}})");
     EXPECT_HAS(m, "blurfield.center[1]: must be a number");
     m = error_of(R"({"blurfield": {"kind": "region", "shape": "sphere", "center": [0, -1e999, 0], "radius": 1, "blur": 1}})");

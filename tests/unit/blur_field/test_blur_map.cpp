@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <span>
+#include <vector>
 
 #include "gdof/blur_map.h"
 
@@ -38,6 +39,9 @@ Image test_image(const Camera& cam) {
     return img;
 }
 
+// A row-major buffer over the image's data window as the blur map's output.
+ImageView plane_of(std::vector<float>& v, const Image& img) { return ImageView::planar(v.data(), 1, img.data_window()); }
+
 PositionSource source(const std::string& position, const std::string& depth) {
     PositionSource s;
     s.position_channels = position;
@@ -58,12 +62,12 @@ TEST(blur_map, PositionsAndDepthGiveTheThinLensCoC) {
     auto field = BlurField::from_thin_lens(lens);
     ASSERT_TRUE(field) << field.message();
     std::vector<float> from_p(img.npixels()), from_z(img.npixels());
-    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, from_p.data()));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, plane_of(from_p, img)));
     Image z_only = img;  // same surface without the position pass
     z_only.remove_channel(4);
     z_only.remove_channel(3);
     z_only.remove_channel(2);
-    ASSERT_TRUE(evaluate_blur_map(*field, cam, z_only, {}, from_z.data()));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, z_only, {}, plane_of(from_z, z_only)));
     for (int y = 2; y < 30; ++y)
         for (int x = -4; x < 40; ++x) {
             const std::size_t i = img.offset(x, y);
@@ -90,13 +94,13 @@ TEST(blur_map, InverseDepthIsDecodedBeforeEvaluation) {
     src.depth_decode.encoding = DepthEncoding::Inverse;
     src.depth_decode.scale = 2.0;
     std::vector<float> out(img.npixels());
-    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, src, out.data()));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, src, plane_of(out, img)));
     for (std::size_t i = 0; i < out.size(); ++i) {
         const double expected = lens.coc_radius_px(2.0 / double(img.plane(1)[i]));
         EXPECT_NEAR(out[i], expected, 1e-4 * (1 + expected));
     }
     src.depth_decode.encoding = DepthEncoding::NearFarLinear;  // near/far not given
-    Status st = evaluate_blur_map(*field, cam, img, src, out.data());
+    Status st = evaluate_blur_map(*field, cam, img, src, plane_of(out, img));
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'Z'"), std::string::npos) << st.message();
 }
@@ -110,8 +114,8 @@ TEST(blur_map, ThreadCountDoesNotChangeTheResult) {
     Exec one, many;
     one.nthreads = 1;
     many.nthreads = 4;
-    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, a.data(), one));
-    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, b.data(), many));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, plane_of(a, img), one));
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, plane_of(b, img), many));
     EXPECT_EQ(a, b);
 }
 
@@ -123,7 +127,7 @@ TEST(blur_map, DeepSamplesMatchTheFlatEvaluationAtTheirDepths) {
     DeepImage deep({{"A", PixelType::Half}, {"Z", PixelType::Float}}, img.data_window(), img.display_window());
     std::vector<std::uint32_t> counts(deep.npixels());
     for (std::size_t i = 0; i < counts.size(); ++i) counts[i] = std::uint32_t(i % 3);  // 0, 1 or 2 samples
-    deep.set_sample_counts(counts);
+    EXPECT_TRUE(deep.set_sample_counts(counts));
     for (int y = 2; y < 30; ++y)
         for (int x = -4; x < 40; ++x) {
             const std::size_t p = deep.pixel_index(x, y);
@@ -131,7 +135,7 @@ TEST(blur_map, DeepSamplesMatchTheFlatEvaluationAtTheirDepths) {
                 deep.samples(1)[deep.first_sample(p) + k] = img.at(1, x, y) * float(1 + k);
         }
     std::vector<float> out(deep.total_samples());
-    ASSERT_TRUE(evaluate_blur_deep(*field, cam, deep, -1, out.data()));
+    ASSERT_TRUE(evaluate_blur_deep(*field, cam, deep, -1, out));
     for (int y = 2; y < 30; ++y)
         for (int x = -4; x < 40; ++x) {
             const std::size_t p = deep.pixel_index(x, y);
@@ -147,19 +151,72 @@ TEST(blur_map, NamedChannelsThatAreMissingAreErrors) {
     Image img = test_image(cam);
     BlurField zero;
     std::vector<float> out(img.npixels());
-    Status st = evaluate_blur_map(zero, cam, img, source("Pw", ""), out.data());
+    Status st = evaluate_blur_map(zero, cam, img, source("Pw", ""), plane_of(out, img));
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("Pw.x"), std::string::npos) << st.message();
-    st = evaluate_blur_map(zero, cam, img, source("P.x,P.y,nope", ""), out.data());
+    st = evaluate_blur_map(zero, cam, img, source("P.x,P.y,nope", ""), plane_of(out, img));
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'nope'"), std::string::npos) << st.message();
     Image flat = Image::with_channels({"R", "G", "B"}, img.data_window());
-    st = evaluate_blur_map(zero, cam, flat, {}, out.data());
+    st = evaluate_blur_map(zero, cam, flat, {}, plane_of(out, flat));
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'Z'"), std::string::npos) << st.message();
-    st = evaluate_blur_map(zero, cam, flat, source("", "depth"), out.data());
+    st = evaluate_blur_map(zero, cam, flat, source("", "depth"), plane_of(out, flat));
     ASSERT_FALSE(st);
     EXPECT_NE(st.message().find("'depth'"), std::string::npos) << st.message();
+}
+
+TEST(blur_map, OutputIntoAnImageChannelOrAStridedBufferIsTheSame) {
+    const Camera cam = test_camera();
+    Image img = test_image(cam);
+    auto field = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [3, 9], "max_blur": 8, "slope": 4}})");
+    ASSERT_TRUE(field) << field.message();
+    std::vector<float> ref(img.npixels());
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, plane_of(ref, img)));
+    // Into the image's own channel.
+    const int bc = img.add_channel({"blur", PixelType::Float});
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, img.channel_view(bc)));
+    EXPECT_EQ(std::vector<float>(img.plane(bc), img.plane(bc) + img.npixels()), ref);
+    // Into channel 1 of an interleaved two-channel buffer: the other channel untouched.
+    const Roi win = img.data_window();
+    std::vector<float> inter(2 * win.npixels(), -3.0f);
+    const ImageView iv = ImageView::interleaved(inter.data(), 2, win, 2 * win.width());
+    ASSERT_TRUE(evaluate_blur_map(*field, cam, img, {}, iv.channels(1, 1)));
+    for (int y = win.y0; y < win.y1; ++y)
+        for (int x = win.x0; x < win.x1; ++x) {
+            ASSERT_EQ(iv.at(1, x, y), ref[img.offset(x, y)]) << x << "," << y;
+            ASSERT_EQ(iv.at(0, x, y), -3.0f);
+        }
+}
+
+TEST(blur_map, AnOutputOfAnotherSizeIsAnErrorNamingBothShapes) {
+    const Camera cam = test_camera();
+    const Image img = test_image(cam);
+    BlurField zero;
+    const Roi win = img.data_window();
+    std::vector<float> out(2 * img.npixels(), 5.0f);
+    Status st = evaluate_blur_map(zero, cam, img, {}, ImageView::planar(out.data(), 1, Roi{0, 0, win.width(), win.height()}));
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
+    EXPECT_NE(st.message().find(to_string(win)), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("[0,44)x[0,28)"), std::string::npos) << st.message();
+    st = evaluate_blur_map(zero, cam, img, {}, ImageView::planar(out.data(), 2, win));
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("2 channels"), std::string::npos) << st.message();
+    st = evaluate_blur_map(zero, cam, img, {}, ImageView{nullptr, 1, win, 0, 1, win.width()});
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.message().find("without pixels"), std::string::npos) << st.message();
+    for (float v : out) ASSERT_EQ(v, 5.0f);  // nothing written
+
+    DeepImage deep({{"Z", PixelType::Float}}, Roi{0, 0, 2, 1}, Roi{0, 0, 2, 1});
+    ASSERT_TRUE(deep.set_sample_counts({2, 1}));
+    std::vector<float> short_out(2, 5.0f);
+    st = evaluate_blur_deep(zero, cam, deep, -1, short_out);
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
+    EXPECT_NE(st.message().find("2 values"), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("(3)"), std::string::npos) << st.message();
+    EXPECT_EQ(short_out, std::vector<float>(2, 5.0f));
 }
 
 TEST(blur_map, ResolveCameraAppliesOverridesAndNamesWhatIsMissing) {

@@ -120,7 +120,7 @@ TEST(defocus_input, DeepInput) {
     std::vector<std::uint32_t> counts(kDisplay.npixels());
     for (int y = 0; y < kDisplay.y1; ++y)
         for (int x = 0; x < kDisplay.x1; ++x) counts[d.pixel_index(x, y)] = x < 48 ? 2u : 1u;
-    d.set_sample_counts(counts);
+    EXPECT_TRUE(d.set_sample_counts(counts));
     for (int y = 0; y < kDisplay.y1; ++y)
         for (int x = 0; x < kDisplay.x1; ++x) {
             std::size_t k = d.first_sample(d.pixel_index(x, y));
@@ -216,7 +216,7 @@ TEST(defocus_input, BadInputsAreClearErrors) {
     EXPECT_NE(r.message().find("depth.V"), std::string::npos) << r.message();
 
     DeepImage d(std::vector<ChannelSpec>{{"R"}, {"G"}, {"B"}, {"A"}}, kDisplay, kDisplay);
-    d.set_sample_counts(std::vector<std::uint32_t>(kDisplay.npixels(), 1u));
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(kDisplay.npixels(), 1u)));
     ImageSet ds;
     ds.parts.emplace_back(d);
     r = defocus(ds, BlurField(), cam, {});

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "defocus_test_helpers.h"
+#include "diffusion/diffusion_test_helpers.h"
 #include "gdof/defocus.h"
 #include "gdof/diffusion.h"
 
@@ -32,8 +33,7 @@ std::array<std::vector<float>, 2> diffused(int w, int h, float radius, Diffusion
     auto p = textured(w, h);
     std::vector<float> r(std::size_t(w) * h, radius);
     r[0] = 0.0f;  // a varying map: the choice follows its largest radius
-    std::array<float*, 2> ptr{p[0].data(), p[1].data()};
-    EXPECT_TRUE(diffuse_planes(ptr, w, h, r.data(), s).is_ok());
+    EXPECT_TRUE(test::diffuse_vectors({&p[0], &p[1]}, w, h, r, s).is_ok());
     return p;
 }
 

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "diffusion/diffusion_test_helpers.h"
 #include "gdof/diffusion.h"
 
 using namespace gdof;
@@ -17,11 +18,6 @@ struct Planes {
     int w, h;
     std::vector<std::vector<float>> data;
     Planes(int w_, int h_, int n) : w(w_), h(h_), data(std::size_t(n), std::vector<float>(std::size_t(w_) * h_, 0.f)) {}
-    std::vector<float*> ptrs() {
-        std::vector<float*> p;
-        for (auto& d : data) p.push_back(d.data());
-        return p;
-    }
 };
 
 double gaussian2d(double x, double y, double sigma, double total) {
@@ -39,8 +35,9 @@ Status run(Planes& p, const std::vector<float>& radius, DiffusionSolver solver, 
     s.solver = solver;
     Exec e;
     e.nthreads = threads;
-    auto ptrs = p.ptrs();
-    return diffuse_planes(ptrs, p.w, p.h, radius.data(), s, e);
+    std::vector<std::vector<float>*> planes;
+    for (auto& d : p.data) planes.push_back(&d);
+    return test::diffuse_vectors(planes, p.w, p.h, radius, s, e);
 }
 
 class ConstantBlur : public ::testing::TestWithParam<std::tuple<DiffusionSolver, double>> {};

@@ -31,12 +31,13 @@ std::vector<float> padded_square(int w, int h) {
 std::vector<float> diffuse_on_this_thread(DiffusionSolver solver) {
     const int W = 300, H = 40;
     std::vector<float> p = padded_square(W, H), r(p.size(), 12.0f);
-    float* planes[1] = {p.data()};
     DiffusionOptions s;
     s.solver = solver;
     Exec one;
     one.nthreads = 1;  // runs on the calling thread
-    EXPECT_TRUE(diffuse_planes(planes, W, H, r.data(), s, one).is_ok());
+    const Roi window{0, 0, W, H};
+    EXPECT_TRUE(diffuse_planes(ImageView::planar(p.data(), 1, window), ConstImageView::planar(r.data(), 1, window), s, one)
+                    .is_ok());
     return p;
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "defocus_test_helpers.h"
+#include "diffusion/diffusion_test_helpers.h"
 #include "gdof/defocus.h"
 #include "gdof/diffusion.h"
 #include "gdof/fill.h"
@@ -100,8 +101,7 @@ TEST(stress_diffusion, solvers_conserve_totals_and_obey_the_maximum_principle) {
         const std::vector<float> constant_in = constant;
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", solver " << to_string(ds.solver) << ", radii up to "
                                           << r_max << ", constant " << constant_in[0]);
-        float* planes[2] = {hdr.data(), constant.data()};
-        const Status st = diffuse_planes(planes, sz.w, sz.h, radius.data(), ds);
+        const Status st = test::diffuse_vectors({&hdr, &constant}, sz.w, sz.h, radius, ds);
         ASSERT_TRUE(st) << st.message();
 
         const double s_in = sum(orig), s_out = sum(hdr);
@@ -146,8 +146,7 @@ TEST(stress_diffusion, invalid_radii_are_errors_naming_the_pixel) {
         const std::vector<float> orig = plane;
         DiffusionOptions ds;
         ds.solver = rng.chance(0.5) ? DiffusionSolver::Adi : DiffusionSolver::Explicit;
-        float* planes[1] = {plane.data()};
-        const Status st = diffuse_planes(planes, sz.w, sz.h, radius.data(), ds);
+        const Status st = test::diffuse_vectors({&plane}, sz.w, sz.h, radius, ds);
         const std::string where = "(" + std::to_string(int(at % std::size_t(sz.w))) + ", " +
                                   std::to_string(int(at / std::size_t(sz.w)));
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", radius " << bad << " at " << where << ")");
@@ -446,7 +445,7 @@ TEST(stress_diffusion, slicing_an_opaque_plate_and_compositing_back_is_the_ident
                     ASSERT_FALSE(std::isnan(l.image.plane(z)[i])) << "covered pixel without depth in " << l.name;
                 }
         }
-        const Image back = composite_layers(ptrs, f);
+        const Image back = composite_layers(ptrs, f).value();
         EXPECT_EQ(max_abs_diff(back, img, f), 0.0);
     }
 }
@@ -471,8 +470,8 @@ TEST(stress_diffusion, push_pull_fill_stays_within_the_known_values) {
         for (std::size_t i = 0; i < n; ++i)
             if (weight[i] > 0) any = true, lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", known fraction " << p_known);
-        float* planes[1] = {v.data()};
-        const bool filled = push_pull_fill(planes, weight.data(), sz.w, sz.h);
+        const Roi win{0, 0, sz.w, sz.h};
+        const bool filled = push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(weight.data(), 1, win));
         EXPECT_EQ(filled, any);
         for (std::size_t i = 0; i < n; ++i) {
             if (!any || weight[i] > 0) {
@@ -494,7 +493,7 @@ DeepImage random_deep(StressRng& rng, const Roi& w) {
     DeepImage d(std::vector<ChannelSpec>{{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, w, w);
     std::vector<std::uint32_t> counts(w.npixels());
     for (auto& c : counts) c = std::uint32_t(rng.integer(0, 4));
-    d.set_sample_counts(counts);
+    EXPECT_TRUE(d.set_sample_counts(counts));
     for (std::size_t s = 0; s < d.total_samples(); ++s) {
         const float a = rng.chance(0.3) ? 1.0f : float(rng.uniform(0.0, 1.0));
         for (int c = 0; c < 3; ++c) d.samples(c)[s] = a * rng.pixel();
@@ -528,7 +527,7 @@ TEST(stress_diffusion, deep_inputs_split_composite_and_refuse_bad_samples) {
         ASSERT_TRUE(flat) << flat.message();
         std::vector<const Image*> ptrs;
         for (const Layer& l : *layers) ptrs.push_back(&l.image);
-        const Image back = composite_layers(ptrs, w);
+        const Image back = composite_layers(ptrs, w).value();
         long bad = 0;
         for (int y = 0; y < sz.h; ++y)
             for (int x = 0; x < sz.w; ++x) {

@@ -16,8 +16,8 @@ TEST(fill, ConstantStaysConstantAndKnownPixelsAreKept) {
             w[y * W + x] = 1.0f;
         }
     v[0] = -7.0f;  // garbage where the weight is 0 must be overwritten
-    float* p = v.data();
-    ASSERT_TRUE(push_pull_fill(std::span<float* const>(&p, 1), w.data(), W, H));
+    const Roi win{0, 0, W, H};
+    ASSERT_TRUE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win)));
     for (float x : v) EXPECT_FLOAT_EQ(x, 3.25f);
 }
 
@@ -36,8 +36,8 @@ TEST(fill, ExtrapolationIsSmoothAndBetweenTheKnownValues) {
             w[y * W + x] = 1.0f;
         }
     }
-    float* p = v.data();
-    ASSERT_TRUE(push_pull_fill(std::span<float* const>(&p, 1), w.data(), W, H));
+    const Roi win{0, 0, W, H};
+    ASSERT_TRUE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win)));
     for (int x = 0; x < W; ++x) {
         const float a = v[8 * W + x];
         EXPECT_GE(a, 1.0f - 1e-5f);
@@ -53,7 +53,76 @@ TEST(fill, ExtrapolationIsSmoothAndBetweenTheKnownValues) {
 
 TEST(fill, NoWeightMeansNothingToFill) {
     std::vector<float> v(6, 2.0f), w(6, 0.0f);
-    float* p = v.data();
-    EXPECT_FALSE(push_pull_fill(std::span<float* const>(&p, 1), w.data(), 3, 2));
+    const Roi win{0, 0, 3, 2};
+    EXPECT_FALSE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win)));
     for (float x : v) EXPECT_EQ(x, 2.0f);
+}
+
+namespace {
+
+// Two planes with a known block in the middle of a W x H window.
+struct FillCase {
+    static constexpr int W = 23, H = 11;
+    Roi win{5, -3, 5 + W, -3 + H};
+    std::vector<float> planes = std::vector<float>(2 * std::size_t(W) * H, 0.0f), weight = std::vector<float>(std::size_t(W) * H, 0.0f);
+    FillCase() {
+        for (int y = 3; y < 8; ++y)
+            for (int x = 6; x < 15; ++x) {
+                const std::size_t i = std::size_t(y) * W + std::size_t(x);
+                planes[i] = float(x) * 0.25f;
+                planes[std::size_t(W) * H + i] = float(y) - 3.5f;
+                weight[i] = 0.5f + 0.05f * float(x - 6);
+            }
+    }
+    ImageView view() { return ImageView::planar(planes.data(), 2, win); }
+    ConstImageView weight_view() const { return ConstImageView::planar(weight.data(), 1, win); }
+};
+
+}  // namespace
+
+TEST(fill, InterleavedAndCroppedViewsFillLikePlanarOnes) {
+    FillCase ref;
+    ASSERT_TRUE(push_pull_fill(ref.view(), ref.weight_view()));
+
+    // The same planes interleaved (x stride 2) give the same bits.
+    FillCase il;
+    std::vector<float> inter(2 * il.weight.size());
+    for (std::size_t i = 0; i < il.weight.size(); ++i)
+        for (std::size_t c = 0; c < 2; ++c) inter[2 * i + c] = il.planes[c * il.weight.size() + i];
+    const ImageView iv = ImageView::interleaved(inter.data(), 2, il.win, 2 * FillCase::W);
+    ASSERT_TRUE(push_pull_fill(iv, il.weight_view()));
+    for (int c = 0; c < 2; ++c)
+        for (int y = il.win.y0; y < il.win.y1; ++y)
+            for (int x = il.win.x0; x < il.win.x1; ++x) ASSERT_EQ(iv.at(c, x, y), ref.view().at(c, x, y)) << c << " " << x << "," << y;
+
+    // A window cropped out of a larger buffer: the same bits inside, the
+    // pixels around it untouched.
+    const Roi big{0, -10, 40, 20};
+    std::vector<float> bigp(2 * big.npixels(), 42.0f), bigw(big.npixels(), 0.0f);
+    const ImageView bv = ImageView::planar(bigp.data(), 2, big);
+    const ImageView bw = ImageView::planar(bigw.data(), 1, big);
+    FillCase src;
+    for (int c = 0; c < 2; ++c)
+        for (int y = src.win.y0; y < src.win.y1; ++y)
+            for (int x = src.win.x0; x < src.win.x1; ++x) {
+                bv.at(c, x, y) = src.view().at(c, x, y);
+                if (c == 0) bw.at(0, x, y) = src.weight_view().at(0, x, y);
+            }
+    ASSERT_TRUE(push_pull_fill(bv.cropped(src.win), bw.cropped(src.win)));
+    for (int c = 0; c < 2; ++c)
+        for (int y = big.y0; y < big.y1; ++y)
+            for (int x = big.x0; x < big.x1; ++x)
+                ASSERT_EQ(bv.at(c, x, y), src.win.contains(x, y) ? ref.view().at(c, x, y) : 42.0f) << c << " " << x << "," << y;
+}
+
+TEST(fill, AWeightOfAnotherShapeFillsNothing) {
+    FillCase f;
+    const std::vector<float> before = f.planes;
+    const Roi other{f.win.x0, f.win.y0, f.win.x1 - 1, f.win.y1};
+    EXPECT_FALSE(push_pull_fill(f.view(), ConstImageView::planar(f.weight.data(), 1, other)));
+    EXPECT_FALSE(push_pull_fill(f.view(), ConstImageView{f.weight.data(), 2, f.win, 0, 1, FillCase::W}));
+    EXPECT_FALSE(push_pull_fill(f.view(), ConstImageView{nullptr, 1, f.win, 0, 1, FillCase::W}));
+    EXPECT_EQ(f.planes, before);
+    EXPECT_TRUE(push_pull_fill(f.view(), f.weight_view()));  // the same call with the right weight fills
+    EXPECT_NE(f.planes, before);
 }

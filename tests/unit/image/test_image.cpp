@@ -56,13 +56,38 @@ TEST(ImageView, InterleavedViewWithNegativeRowStride) {
 TEST(DeepImage, SampleOffsetsArePrefixSums) {
     DeepImage d({{"R", PixelType::Half}, {"Z", PixelType::Float}, {"ZBack", PixelType::Float}}, Roi{0, 0, 3, 1},
                 Roi{0, 0, 3, 1});
-    d.set_sample_counts({2, 0, 3});
+    EXPECT_TRUE(d.set_sample_counts({2, 0, 3}));
     EXPECT_EQ(d.total_samples(), 5u);
     EXPECT_EQ(d.first_sample(2), 2u);
     EXPECT_EQ(d.z_channel(), 1);
     EXPECT_EQ(d.zback_channel(), 2);
     d.samples(1)[d.first_sample(2) + 2] = 7.0f;
     EXPECT_EQ(d.samples(1)[4], 7.0f);
+}
+
+TEST(DeepImage, SampleCountsOfAnotherSizeAreAnErrorAndChangeNothing) {
+    DeepImage d({{"R", PixelType::Half}, {"id", PixelType::UInt}}, Roi{0, 0, 3, 1}, Roi{0, 0, 3, 1});
+    ASSERT_TRUE(d.set_sample_counts({1, 2, 0}));
+    d.samples(0)[2] = 4.5f;
+    Status st = d.set_sample_counts({1, 1});
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
+    EXPECT_NE(st.message().find("2 sample counts"), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("3 pixels"), std::string::npos) << st.message();
+    EXPECT_EQ(d.total_samples(), 3u);
+    EXPECT_EQ(d.samples(0)[2], 4.5f);
+}
+
+TEST(DeepImage, SetChannelTypeKeepsStorageKinds) {
+    DeepImage d({{"R", PixelType::Half}, {"id", PixelType::UInt}}, Roi{0, 0, 1, 1}, Roi{0, 0, 1, 1});
+    EXPECT_TRUE(d.set_channel_type(0, PixelType::Float));
+    EXPECT_EQ(d.channel(0).type, PixelType::Float);
+    Status st = d.set_channel_type(1, PixelType::Float);
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
+    EXPECT_NE(st.message().find("'id'"), std::string::npos) << st.message();
+    EXPECT_EQ(d.channel(1).type, PixelType::UInt);
+    EXPECT_FALSE(d.set_channel_type(0, PixelType::UInt));
 }
 
 TEST(Math, InverseOfAffineMatrix) {

@@ -185,7 +185,7 @@ TEST(colour, DeepSamplesAreConverted) {
     DeepImage deep({{"R", PixelType::Half}, {"G", PixelType::Half}, {"B", PixelType::Half}, {"A", PixelType::Half},
                     {"Z", PixelType::Float}},
                    Roi{0, 0, 2, 1}, Roi{0, 0, 2, 1});
-    deep.set_sample_counts({2, 1});
+    EXPECT_TRUE(deep.set_sample_counts({2, 1}));
     for (int c = 0; c < 5; ++c)
         for (std::size_t s = 0; s < deep.total_samples(); ++s) deep.samples(c)[s] = 0.25f;
     ASSERT_TRUE(ColourConfig::builtin()->convert(deep, "linear", "sRGB").is_ok());

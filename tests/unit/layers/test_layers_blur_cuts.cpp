@@ -49,7 +49,7 @@ Image pole_scene() {
 DeepImage pole_scene_deep() {
     const Image flat = pole_scene();
     DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, kWin, kWin);
-    d.set_sample_counts(std::vector<std::uint32_t>(flat.npixels(), 1));
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(flat.npixels(), 1)));
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             const std::size_t k = d.first_sample(d.pixel_index(x, y));
@@ -149,7 +149,7 @@ TEST(layers_blur_cuts, ConstantBlurAddsNoCutToTheGaps) {
 TEST(layers_blur_cuts, DeepAndDepthMapAgreeAndRadiiMustMatchTheSamples) {
     const DeepImage deep = pole_scene_deep();
     const std::vector<float> r = radius_map();  // one sample per pixel, in pixel order
-    auto from_deep = layers_from_deep(deep, LayerSplit{}, {}, r);
+    auto from_deep = layers_from_deep(deep, LayerSplit{}, r);
     ASSERT_TRUE(from_deep) << from_deep.message();
     SliceOptions so;
     so.radius = r;
@@ -160,7 +160,7 @@ TEST(layers_blur_cuts, DeepAndDepthMapAgreeAndRadiiMustMatchTheSamples) {
         EXPECT_DOUBLE_EQ((*from_deep)[i].slice_near, (*from_map)[i].slice_near) << i;
 
     const std::vector<float> short_r(r.begin(), r.end() - 1);
-    auto bad = layers_from_deep(deep, LayerSplit{}, {}, short_r);
+    auto bad = layers_from_deep(deep, LayerSplit{}, short_r);
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.message().find(std::to_string(short_r.size()) + " blur radii"), std::string::npos) << bad.message();
     so.radius = short_r;

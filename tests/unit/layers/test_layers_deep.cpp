@@ -42,7 +42,7 @@ DeepImage make_deep(std::uint64_t seed = 1) {
     Rng rng(seed);
     std::vector<std::uint32_t> counts(d.npixels());
     for (auto& c : counts) c = rng.next() % 5;
-    d.set_sample_counts(counts);
+    EXPECT_TRUE(d.set_sample_counts(counts));
     for (std::size_t p = 0; p < d.npixels(); ++p)
         for (std::size_t k = d.first_sample(p); k < d.first_sample(p) + d.sample_count(p); ++k) {
             const Cluster& c = kClusters[rng.next() % 3];
@@ -138,7 +138,7 @@ TEST(layers_deep, AutoKeepsAtMostMaxLayers) {
 TEST(layers_deep, ContinuousDepthsGiveOneLayer) {
     const Roi win{0, 0, 64, 64};
     DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, win, win);
-    d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1));
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1)));
     for (std::size_t p = 0; p < d.npixels(); ++p) {
         d.samples(3)[p] = 1.0f;
         d.samples(4)[p] = float(1.0 + 9.0 * double(p) / double(d.npixels()));  // 1..10, no gaps
@@ -233,7 +233,7 @@ TEST(layers_deep, CompositeOfLayersEqualsFlatten) {
         ASSERT_TRUE(r) << r.message();
         // A window larger than the image (layers partly outside is fine).
         const Roi window = d.data_window().grown(3);
-        Image comp = composite_layers(pointers(*r), window);
+        Image comp = composite_layers(pointers(*r), window).value();
         EXPECT_EQ(comp.data_window(), window);
         EXPECT_LE(max_diff(comp, *flat), 1e-6) << int(s.mode) << " " << s.count;
         // Nothing outside the layers.
@@ -244,7 +244,7 @@ TEST(layers_deep, CompositeOfLayersEqualsFlatten) {
 TEST(layers_deep, FlattenIsFrontToBackOver) {
     const Roi win{10, 20, 13, 21};
     DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, win, Roi{0, 0, 32, 32});
-    d.set_sample_counts({3, 0, 2});
+    EXPECT_TRUE(d.set_sample_counts({3, 0, 2}));
     auto set = [&](std::size_t k, float r, float g, float b, float a, float z) {
         d.samples(0)[k] = r;
         d.samples(1)[k] = g;
@@ -341,8 +341,8 @@ TEST(layers_deep, IndependentOfThreadCount) {
     one.nthreads = 1;
     Exec many;
     many.nthreads = 4;
-    auto a = layers_from_deep(d, LayerSplit{}, one);
-    auto b = layers_from_deep(d, LayerSplit{}, many);
+    auto a = layers_from_deep(d, LayerSplit{}, {}, one);
+    auto b = layers_from_deep(d, LayerSplit{}, {}, many);
     ASSERT_TRUE(a && b);
     ASSERT_EQ(a->size(), b->size());
     for (std::size_t l = 0; l < a->size(); ++l) {
@@ -363,6 +363,6 @@ TEST(layers_deep, EmptyDeepImage) {
     auto l = layers_from_deep(d, LayerSplit{});
     ASSERT_TRUE(l) << l.message();
     for (const auto& L : *l) EXPECT_TRUE(L.image.data_window().empty());
-    Image comp = composite_layers(pointers(*l), win);
+    Image comp = composite_layers(pointers(*l), win).value();
     EXPECT_EQ(comp.at(3, 1, 1), 0.0f);
 }

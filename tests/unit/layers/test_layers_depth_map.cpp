@@ -105,7 +105,7 @@ TEST(layers_depth_map, TwoSlicesAndTheFarSliceContinuesBehindTheDisc) {
     EXPECT_LT(worst, 0.25);
     // Compositing the slices gives the input back (opaque input).
     const Image src = scene();
-    Image comp = composite_layers(pointers(*r), kWin);
+    Image comp = composite_layers(pointers(*r), kWin).value();
     for (int y = kWin.y0; y < kWin.y1; ++y)
         for (int x = kWin.x0; x < kWin.x1; ++x)
             for (int c = 0; c < 4; ++c) ASSERT_EQ(comp.at(c, x, y), src.at(c, x, y)) << x << "," << y;

@@ -26,7 +26,7 @@ DeepImage scene() {
     auto wall = [](int x, int) { return x < 44; };
     for (int y = 0; y < 48; ++y)
         for (int x = 0; x < 64; ++x) counts[d.pixel_index(x, y)] = (square(x, y) || disc(x, y) || wall(x, y)) ? 1 : 0;
-    d.set_sample_counts(counts);
+    EXPECT_TRUE(d.set_sample_counts(counts));
     for (int y = 0; y < 48; ++y)
         for (int x = 0; x < 64; ++x) {
             if (!counts[d.pixel_index(x, y)]) continue;
@@ -81,7 +81,7 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     DeepImage d({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float},
                  {"Z", PixelType::Float}},
                 win, win);
-    d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1));
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1)));
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 40; ++x) {
             const std::size_t k = d.first_sample(d.pixel_index(x, y));

@@ -93,7 +93,7 @@ TEST(layers_parts, MultipartFileGivesLayersFrontToBack) {
     EXPECT_EQ(bg.image.at(0, 5, 3), src.at(0, 5, 3));
 
     // Composite = fg over bg.
-    Image comp = composite_layers({&fg.image, &bg.image}, kDisplay);
+    Image comp = composite_layers({&fg.image, &bg.image}, kDisplay).value();
     EXPECT_FLOAT_EQ(comp.at(0, 12, 14), 0.8f);
     EXPECT_FLOAT_EQ(comp.at(0, 30, 3), src.at(0, 30, 3));
 }

@@ -67,7 +67,7 @@ DeepImage merge(const std::vector<const DeepImage*>& parts) {
         for (int y = pw.y0; y < pw.y1; ++y)
             for (int x = pw.x0; x < pw.x1; ++x) counts[out.pixel_index(x, y)] += p->sample_count(p->pixel_index(x, y));
     }
-    out.set_sample_counts(counts);
+    EXPECT_TRUE(out.set_sample_counts(counts));
     std::vector<std::uint32_t> filled(out.npixels(), 0);
     for (const DeepImage* p : parts) {
         int ch[5];
@@ -122,7 +122,7 @@ TEST(layers_shared, FlattenMatchesOiioAndLayersRecompose) {
             ASSERT_TRUE(s);
             auto layers = layers_from_deep(deep, *s);
             ASSERT_TRUE(layers) << layers.message();
-            Image comp = composite_layers(pointers(*layers), deep.data_window());
+            Image comp = composite_layers(pointers(*layers), deep.data_window()).value();
             double m = 0;
             for (std::size_t i = 0; i < comp.npixels(); ++i)
                 for (int c = 0; c < 4; ++c) m = std::max(m, double(std::fabs(comp.plane(c)[i] - flat->plane(c)[i])));
@@ -150,7 +150,7 @@ TEST(layers_shared, CompositedIsTheFlattenedMergeOfTheThreeFiles) {
     // The same through layers of the merged samples.
     auto layers = layers_from_deep(merged, LayerSplit{});
     ASSERT_TRUE(layers) << layers.message();
-    Image via_layers = composite_layers(pointers(*layers), comp->data_window());
+    Image via_layers = composite_layers(pointers(*layers), comp->data_window()).value();
 
     // composited.exr was made from four deep files: these three and a ground
     // plane (Ground.exr, not in the shared data). So it equals the merge of
@@ -219,7 +219,7 @@ TEST(layers_shared, DeepWithIdSplitsById) {
     EXPECT_EQ(by_particle->size(), pids.size());
     auto flat = flatten_deep(deep);
     ASSERT_TRUE(flat);
-    Image comp = composite_layers(pointers(*layers), deep.data_window());
+    Image comp = composite_layers(pointers(*layers), deep.data_window()).value();
     double m = 0;
     for (std::size_t i = 0; i < comp.npixels(); ++i)
         for (int c = 0; c < 4; ++c) m = std::max(m, double(std::fabs(comp.plane(c)[i] - flat->plane(c)[i])));
@@ -257,7 +257,7 @@ TEST(layers_shared, TumRgbdDepthSlices) {
         std::cout << "; " << holes << " invalid depth pixels (in the farthest slice)\n";
         // Opaque input: the slices composite back to it exactly, and the
         // farthest slice is opaque everywhere (its own pixels + extension).
-        Image comp = composite_layers(pointers(*r), img.data_window());
+        Image comp = composite_layers(pointers(*r), img.data_window()).value();
         double m = 0;
         for (std::size_t i = 0; i < img.npixels(); ++i)
             for (int c = 0; c < 3; ++c) m = std::max(m, double(std::fabs(comp.plane(c)[i] - img.plane(c)[i])));

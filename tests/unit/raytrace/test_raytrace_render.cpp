@@ -1,5 +1,7 @@
-// Rendering: exact Z and P in a pinhole render, thread-count determinism,
-// pinhole == zero blur field, straight thin lens ~ polyline thin lens, adaptive sampling.
+// Rendering: exact Z and P in a pinhole render, thread-count determinism (of
+// the image and of the error), pinhole == zero blur field, straight thin lens
+// ~ polyline thin lens, adaptive sampling, cancellation.
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -164,4 +166,51 @@ TEST(raytrace_render, bad_settings) {
     ASSERT_FALSE(r);
     EXPECT_TRUE(r.message().find("spp") != std::string::npos || r.message().find("without Embree") != std::string::npos)
         << r.message();
+}
+
+TEST(raytrace_render, failing_pixels_give_the_same_error_for_any_thread_count) {
+    ScratchDir dir;
+    const Scene scene = load(dir, "", 48, 32);
+    // Rays crossing the box get a cone over 1e20 scene units: an error on
+    // several tiles of the upper right.
+    auto field = BlurField::parse(R"({"blurfield": {"kind": "region", "shape": "box", "min": [0.5, 0.5, 0],
+        "max": [3, 3, 1], "mode": "blur", "blur": 1e30}})");
+    ASSERT_TRUE(field) << field.message();
+    RenderOptions rs;
+    rs.spp = 2;
+    rs.tile_size = 4;
+    rs.blur_field = &field.value();
+    Exec one;
+    one.nthreads = 1;
+    auto first = render(scene, rs, nullptr, one);
+    if (!first && first.message().find("without Embree") != std::string::npos) GDOF_SKIP_OR_FAIL(first.message());
+    ASSERT_FALSE(first);
+    EXPECT_NE(first.message().find("blur field at pixel ("), std::string::npos) << first.message();
+    Exec many;
+    many.nthreads = 4;
+    for (int run = 0; run < 3; ++run) {
+        auto r = render(scene, rs, nullptr, many);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.message(), first.message());
+    }
+}
+
+TEST(raytrace_render, cancelling_stops_the_render) {
+    ScratchDir dir;
+    const Scene scene = load(dir, "", 48, 32);
+    RenderOptions rs;
+    rs.spp = 2;
+    rs.tile_size = 4;
+    std::atomic<int> polls{0};
+    std::atomic<double> progress{0};
+    Exec exec;
+    exec.nthreads = 2;
+    exec.cancelled = [&] { return ++polls > 10; };  // after a few tiles
+    exec.progress = [&](double f) { progress = f; };
+    auto r = render(scene, rs, nullptr, exec);
+    if (!r && r.message().find("without Embree") != std::string::npos) GDOF_SKIP_OR_FAIL(r.message());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), StatusCode::Cancelled);
+    EXPECT_EQ(r.message(), "render cancelled");
+    EXPECT_LT(progress.load(), 1.0);  // 96 tiles, stopped after about 10
 }

@@ -157,7 +157,7 @@ TEST(focal_stack, errors_name_the_key_path) {
     expect_error(R"({"references": [{"file": "a.exr", "near": 1, "far": "infinite"}]})",
                  "references[0].far: must be a number or \"inf\"");
     expect_error("[1, 2]", "top level: must be an object");
-    expect_error("{\"references\": [", "stack manifest JSON");
+    expect_error("{\"references\": [", "stack manifest: malformed JSON at line 1, column 16");
 }
 
 }  // namespace

@@ -133,7 +133,7 @@ TEST(focus_surfaces, json_surfaces_and_errors) {
         EXPECT_NE(e.message().find(needle), std::string::npos) << e.message();
     };
     err(R"({"near": {"grid": [[1, 2], [3]]}, "far": 4})", "near.grid[1]: has 1 values, row 0 has 2");
-    err(R"({"near": 1, "far": {"grid": [[1, 2], [3, "x"]]}})", "far.grid[1][1]: must be a depth");
+    err(R"({"near": 1, "far": {"grid": [[1, 2], [3, "x"]]}})", "far.grid[1][1]: must be a number or \"inf\", got string \"x\"");
     err(R"({"near": 1, "far": {"grid": [[1, -2]]}})", "far.grid[0][1]: must be >= 0");
     err(R"({"near": 1})", "far: missing required key");
     err(R"({"near": 1, "far": 2, "farr": 3})", "farr: unknown key");

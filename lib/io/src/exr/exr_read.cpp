@@ -128,7 +128,7 @@ void read_deep_generic(PartT& part, DeepImage& img, const Imath::Box2i& dw, std:
     std::uint64_t total = 0;
     for (auto n : counts) total += n;
     check_size(total * std::uint64_t(std::max<std::size_t>(1, nch)) * 4u, file_size, path, "deep samples");
-    img.set_sample_counts(counts);
+    if (Status st = img.set_sample_counts(counts); !st) throw ReadError{quoted(path) + ": " + st.message()};
     for (std::size_t c = 0; c < nch; ++c) {
         const bool is_uint = img.channel(int(c)).type == PixelType::UInt;
         char* base = is_uint ? reinterpret_cast<char*>(img.usamples(int(c))) : reinterpret_cast<char*>(img.samples(int(c)));

@@ -100,6 +100,124 @@ void metadata_to_spec(const Metadata& md, OIIO::ImageSpec& spec) {
     }
 }
 
+// The channels written, by index into the image, their names in the file,
+// and where alpha lands among them (-1: none).
+struct ChannelChoice {
+    std::vector<int> chans;
+    std::vector<std::string> names;
+    int alpha_out = -1;
+};
+
+// Channels the format can hold: R,G,B, else Y, else a lone channel, else all
+// of them where the format takes any count; plus alpha where it takes one.
+Result<ChannelChoice> choose_channels(const Image& image, const OIIO::ImageOutput& out, const std::string& display) {
+    ChannelChoice c;
+    const RgbaIndices rgba = find_rgba(image);
+    if (rgba.r >= 0 && rgba.g >= 0 && rgba.b >= 0) {
+        c.chans = {rgba.r, rgba.g, rgba.b};
+        c.names = {"R", "G", "B"};
+    } else if (int y = image.channel_index("Y"); y >= 0) {
+        c.chans = {y};
+        c.names = {"Y"};
+    } else if (image.nchannels() == 1) {
+        c.chans = {0};
+        c.names = {image.channel(0).name};
+    } else if (out.supports("nchannels")) {
+        for (int i = 0; i < image.nchannels(); ++i) {
+            c.chans.push_back(i);
+            c.names.push_back(image.channel(i).name);
+        }
+    } else {
+        return Status::error(quoted(display) + ": no R,G,B or Y channels to write to " + out.format_name() +
+                             " (write EXR to keep all " + std::to_string(image.nchannels()) + " channels)");
+    }
+    if (rgba.a >= 0 && out.supports("alpha") && std::find(c.chans.begin(), c.chans.end(), rgba.a) == c.chans.end()) {
+        c.alpha_out = int(c.chans.size());
+        c.chans.push_back(rgba.a);
+        c.names.push_back("A");
+    }
+    return c;
+}
+
+// The file's pixel type: the one asked for, else float for HDR formats,
+// 16 bits where the source had them (not JPEG), else 8 bits.
+Result<OIIO::TypeDesc> choose_pixel_type(const Image& image, const std::string& fmt, const WriteOptions& opts,
+                                         const std::string& display) {
+    const std::string& pt = opts.pixel_type;
+    if (pt == "uint8") return OIIO::TypeUInt8;
+    if (pt == "uint16") return OIIO::TypeUInt16;
+    if (pt == "half") return OIIO::TypeHalf;
+    if (pt == "float") return OIIO::TypeFloat;
+    if (!pt.empty())
+        return Status::error(quoted(display) + ": unknown pixel type '" + pt + "' (use uint8, uint16, half or float)");
+    if (fmt == "hdr" || fmt == "openexr") return OIIO::TypeFloat;
+    if (image.metadata.get_float("oiio:BitsPerSample").value_or(8) >= 16 && fmt != "jpeg") return OIIO::TypeUInt16;
+    return OIIO::TypeUInt8;
+}
+
+// The chosen channels over roi as float, unpremultiplied, in the output colour space.
+Result<Image> output_colour(const Image& image, const ChannelChoice& ch, const Roi& roi, const ColourConfig& config,
+                            const std::string& target, const std::string& display) {
+    Image work = gather(image, ch.chans, ch.names, roi);
+    if (ch.alpha_out >= 0) unpremultiply(work, ch.alpha_out);
+    if (config.resolve(target).empty()) return Status::error(quoted(display) + ": unknown colour space '" + target + "'");
+    if (Status s = config.convert(work, kWorkingSpace, target); !s) return s.prefix(quoted(display));
+    return work;
+}
+
+// Size, windows, channels, colour space, metadata, compression and tiling of the file.
+OIIO::ImageSpec make_spec(const Image& image, const ChannelChoice& ch, const Roi& roi, OIIO::TypeDesc type,
+                          const std::string& colour_space, const OIIO::ImageOutput& out, const WriteOptions& opts) {
+    const std::string fmt = out.format_name();
+    OIIO::ImageSpec spec(roi.width(), roi.height(), int(ch.chans.size()), type);
+    spec.x = roi.x0;
+    spec.y = roi.y0;
+    const Roi full = image.display_window().empty() ? roi : image.display_window();
+    spec.full_x = full.x0;
+    spec.full_y = full.y0;
+    spec.full_width = full.width();
+    spec.full_height = full.height();
+    spec.channelnames = ch.names;
+    spec.alpha_channel = ch.alpha_out;
+    metadata_to_spec(image.metadata, spec);
+    spec.attribute("oiio:ColorSpace", colour_space);
+    if (ch.alpha_out >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!opts.compression.empty()) spec.attribute("compression", opts.compression);
+    else if (image.storage.format == fmt && !image.storage.compression.empty())
+        spec.attribute("compression", image.storage.compression);
+    if (image.storage.format == fmt && image.storage.tile_width > 0 && out.supports("tiles")) {
+        spec.tile_width = image.storage.tile_width;
+        spec.tile_height = image.storage.tile_height;
+    }
+    return spec;
+}
+
+// Opens the file and writes the pixels: integers clamped and quantised, floats as they are.
+Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO::ImageSpec& spec, const Image& work,
+                    const std::string& display) {
+    if (!out.open(file, spec)) {
+        std::string e = out.geterror();
+        clear_oiio_error();
+        return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
+    }
+    bool ok = false;
+    if (spec.format == OIIO::TypeUInt8) {
+        auto buf = quantise<std::uint8_t>(work, 255.0);
+        ok = out.write_image(OIIO::TypeUInt8, buf.data());
+    } else if (spec.format == OIIO::TypeUInt16) {
+        auto buf = quantise<std::uint16_t>(work, 65535.0);
+        ok = out.write_image(OIIO::TypeUInt16, buf.data());
+    } else {
+        auto buf = interleave(work);
+        ok = out.write_image(OIIO::TypeFloat, buf.data());
+    }
+    ok = out.close() && ok;
+    std::string e = out.geterror();
+    clear_oiio_error();
+    if (!ok) return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
+    return Status::ok();
+}
+
 }  // namespace
 
 Status write_oiio(const std::string& file, const std::string& display, const Image& image, const WriteOptions& opts) {
@@ -111,49 +229,11 @@ Status write_oiio(const std::string& file, const std::string& display, const Ima
                              (e.empty() ? std::string() : " (OpenImageIO: " + e + ")"));
     }
     const std::string fmt = out->format_name();
-
-    // Channels the format can hold.
-    std::vector<int> chans;
-    std::vector<std::string> names;
-    int alpha_out = -1;
-    RgbaIndices rgba = find_rgba(image);
-    const bool alpha_ok = out->supports("alpha");
-    if (rgba.r >= 0 && rgba.g >= 0 && rgba.b >= 0) {
-        chans = {rgba.r, rgba.g, rgba.b};
-        names = {"R", "G", "B"};
-    } else if (int y = image.channel_index("Y"); y >= 0) {
-        chans = {y};
-        names = {"Y"};
-    } else if (image.nchannels() == 1) {
-        chans = {0};
-        names = {image.channel(0).name};
-    } else if (out->supports("nchannels")) {
-        for (int c = 0; c < image.nchannels(); ++c) {
-            chans.push_back(c);
-            names.push_back(image.channel(c).name);
-        }
-    } else {
-        return Status::error(quoted(display) + ": no R,G,B or Y channels to write to " + fmt +
-                             " (write EXR to keep all " + std::to_string(image.nchannels()) + " channels)");
-    }
-    if (rgba.a >= 0 && alpha_ok && std::find(chans.begin(), chans.end(), rgba.a) == chans.end()) {
-        alpha_out = int(chans.size());
-        chans.push_back(rgba.a);
-        names.push_back("A");
-    }
-
-    // Pixel data type and output colour space.
-    OIIO::TypeDesc type = OIIO::TypeUInt8;
-    const std::string& pt = opts.pixel_type;
-    if (pt == "uint8") type = OIIO::TypeUInt8;
-    else if (pt == "uint16") type = OIIO::TypeUInt16;
-    else if (pt == "half") type = OIIO::TypeHalf;
-    else if (pt == "float") type = OIIO::TypeFloat;
-    else if (!pt.empty())
-        return Status::error(quoted(display) + ": unknown pixel type '" + pt + "' (use uint8, uint16, half or float)");
-    else if (fmt == "hdr" || fmt == "openexr") type = OIIO::TypeFloat;
-    else if (image.metadata.get_float("oiio:BitsPerSample").value_or(8) >= 16 && fmt != "jpeg") type = OIIO::TypeUInt16;
-    const bool integer = !type.is_floating_point();
+    const Result<ChannelChoice> channels = choose_channels(image, *out, display);
+    if (!channels) return channels.status();
+    const Result<OIIO::TypeDesc> type = choose_pixel_type(image, fmt, opts, display);
+    if (!type) return type.status();
+    const bool integer = !type->is_floating_point();
     const std::string target = !opts.colorspace.empty() ? opts.colorspace : (integer ? "sRGB" : "linear");
 
     // Roi: formats without a display window get the display window's pixels.
@@ -161,55 +241,11 @@ Status write_oiio(const std::string& file, const std::string& display, const Ima
     if (!out->supports("displaywindow") && !image.display_window().empty()) roi = image.display_window();
     if (roi.empty()) return Status::error(quoted(display) + ": nothing to write (empty image) to " + fmt);
 
-    Image work = gather(image, chans, names, roi);
-    if (alpha_out >= 0) unpremultiply(work, alpha_out);
     const ColourConfig& config = config_or_default(opts.colour);
-    if (config.resolve(target).empty())
-        return Status::error(quoted(display) + ": unknown colour space '" + target + "'");
-    if (Status s = config.convert(work, kWorkingSpace, target); !s) return s.prefix(quoted(display));
-
-    OIIO::ImageSpec spec(roi.width(), roi.height(), int(chans.size()), type);
-    spec.x = roi.x0;
-    spec.y = roi.y0;
-    const Roi full = image.display_window().empty() ? roi : image.display_window();
-    spec.full_x = full.x0;
-    spec.full_y = full.y0;
-    spec.full_width = full.width();
-    spec.full_height = full.height();
-    spec.channelnames = names;
-    spec.alpha_channel = alpha_out;
-    metadata_to_spec(image.metadata, spec);
-    spec.attribute("oiio:ColorSpace", config.resolve(target));
-    if (alpha_out >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!opts.compression.empty()) spec.attribute("compression", opts.compression);
-    else if (image.storage.format == fmt && !image.storage.compression.empty())
-        spec.attribute("compression", image.storage.compression);
-    if (image.storage.format == fmt && image.storage.tile_width > 0 && out->supports("tiles")) {
-        spec.tile_width = image.storage.tile_width;
-        spec.tile_height = image.storage.tile_height;
-    }
-
-    if (!out->open(file, spec)) {
-        std::string e = out->geterror();
-        clear_oiio_error();
-        return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
-    }
-    bool ok = false;
-    if (type == OIIO::TypeUInt8) {
-        auto buf = quantise<std::uint8_t>(work, 255.0);
-        ok = out->write_image(OIIO::TypeUInt8, buf.data());
-    } else if (type == OIIO::TypeUInt16) {
-        auto buf = quantise<std::uint16_t>(work, 65535.0);
-        ok = out->write_image(OIIO::TypeUInt16, buf.data());
-    } else {
-        auto buf = interleave(work);
-        ok = out->write_image(OIIO::TypeFloat, buf.data());
-    }
-    ok = out->close() && ok;
-    std::string e = out->geterror();
-    clear_oiio_error();
-    if (!ok) return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
-    return Status::ok();
+    const Result<Image> work = output_colour(image, channels.value(), roi, config, target, display);
+    if (!work) return work.status();
+    const OIIO::ImageSpec spec = make_spec(image, channels.value(), roi, type.value(), config.resolve(target), *out, opts);
+    return write_pixels(*out, file, spec, work.value(), display);
 }
 
 }  // namespace gdof::io::detail

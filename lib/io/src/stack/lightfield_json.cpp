@@ -1,225 +1,147 @@
 // lf.json (light-field geometry) and stack.json (references to extract)
-// parsers; formats in docs/lightfield.md. Errors name the file and key.
-#include <nlohmann/json.hpp>
-
+// parsers, read with json_read; formats in docs/lightfield.md. Errors name
+// the file and key; both formats allow // and /* */ comments.
 #include <cmath>
-#include <cstdio>
-#include <fstream>
-#include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "gdof/io/lightfield_io.h"
+#include "gdof/text_file.h"
+#include "common/json_read.h"
 
 namespace gdof::io {
 
 namespace {
 
-using json = nlohmann::json;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using json_read::Comments;
+using json_read::Infinity;
+using json_read::Object;
+using json_read::Value;
+using json_read::fail;
 
-struct Fail {
-    std::string message;
-};
-[[noreturn]] void fail(const std::string& key, const std::string& what) { throw Fail{key + ": " + what}; }
+// A JSON integer that fits an int.
+int integer(const Value& v) { return int(v.integer()); }
 
-std::string kind(const json& j) {
-    if (j.is_string()) return "string \"" + j.get<std::string>() + "\"";
-    return j.type_name();
+// A finite non-zero number (focal_baseline, baseline).
+double non_zero(const Value& v, const std::string& what) {
+    const double d = v.number();
+    if (d == 0) v.fail("must be a finite non-zero number" + what + ", got " + json_read::format_number(d));
+    return d;
 }
 
-void allow_only(const json& obj, const std::string& path, const std::vector<std::string>& keys) {
-    if (!obj.is_object()) fail(path.empty() ? "top level" : path, "must be an object, got " + kind(obj));
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-        bool ok = false;
-        for (const auto& k : keys) ok = ok || k == it.key();
-        if (!ok) {
-            std::string list;
-            for (std::size_t i = 0; i < keys.size(); ++i) list += (i ? ", " : "") + keys[i];
-            fail((path.empty() ? "" : path + ".") + it.key(), "unknown key (expected one of " + list + ")");
+// An optional "gdof_lightfield" / "gdof_lightfield_stack" version: 1.
+void check_version(const Object& o, const std::string& key) {
+    if (const auto v = o.find(key); v && v->integer() != 1)
+        v->fail("unsupported version " + v->raw().dump() + " (expected 1)");
+}
+
+LightFieldConfig read_config(const Value& root) {
+    const Object o = root.object({"gdof_lightfield", "disparity_at_infinity", "focal_baseline", "baseline",
+                                  "focal_length_mm", "sensor_width_mm", "scene_unit_mm", "center", "crop", "comment"});
+    LightFieldConfig c;
+    check_version(o, "gdof_lightfield");
+    if (const auto v = o.find("disparity_at_infinity")) c.disparity_at_infinity = v->number();
+    if (const auto v = o.find("focal_baseline")) c.focal_baseline = non_zero(*v, "");
+    if (const auto v = o.find("baseline")) {
+        if (o.has("focal_baseline")) v->fail("give either focal_baseline or baseline, not both");
+        c.baseline = non_zero(*v, " (scene units per view step)");
+        for (const char* k : {"focal_length_mm", "sensor_width_mm"})
+            o.require(k, "with baseline: focal length in pixels = focal_length_mm / sensor_width_mm * width");
+    }
+    if (const auto v = o.find("focal_length_mm")) c.focal_length_mm = v->positive();
+    if (const auto v = o.find("sensor_width_mm")) c.sensor_width_mm = v->positive();
+    if (const auto v = o.find("scene_unit_mm")) c.scene_unit_mm = v->positive();
+    if (const auto v = o.find("center")) {
+        if (!v->raw().is_array() || v->raw().size() != 2)
+            v->fail("must be [row, column] (file indices of the central view), got " + v->raw().dump());
+        const std::vector<Value> rc = v->array();
+        c.center = std::array<int, 2>{integer(rc[0]), integer(rc[1])};
+    }
+    if (const auto v = o.find("crop")) {
+        const Object crop = v->object({"x", "y", "width", "height"}, {"x", "y", "width", "height"});
+        const int x = integer(crop.get("x")), y = integer(crop.get("y"));
+        const int w = integer(crop.get("width")), h = integer(crop.get("height"));
+        if (w <= 0) fail(crop.path("width"), "must be > 0, got " + std::to_string(w));
+        if (h <= 0) fail(crop.path("height"), "must be > 0, got " + std::to_string(h));
+        c.crop = Roi{x, y, x + w, y + h};
+    }
+    return c;
+}
+
+// One focus of a request: a disparity (finite), or a depth (> 0, or "inf").
+void read_focus(const Value& v, bool disparity, StackRequest& q) {
+    if (disparity) q.focus_disparity = v.number();
+    else q.focus_depth = v.positive(Infinity::Allowed);
+}
+
+ExtractStackOptions read_extract(const Value& root) {
+    const Object o = root.object({"gdof_lightfield_stack", "coc_px", "filter", "references", "disparities", "depths",
+                                  "apertures", "comment"});
+    ExtractStackOptions s;
+    check_version(o, "gdof_lightfield_stack");
+    if (const auto v = o.find("coc_px")) s.coc_px = v->positive();
+    if (const auto v = o.find("filter")) {
+        if (!v->raw().is_string()) v->fail("must be \"bicubic\" or \"bilinear\", got " + json_read::type_name(v->raw()));
+        auto f = parse_lightfield_filter(v->string());
+        if (!f) v->fail(f.message(), f.status().code());
+        s.filter = f.value();
+    }
+    // The grid form: every focus (disparities, then depths) with every aperture.
+    const bool grid = o.has("disparities") || o.has("depths");
+    if (grid) o.require("apertures", "with disparities / depths");
+    if (o.has("apertures") && !grid) fail("apertures", "needs disparities or depths to pair with");
+    if (grid) {
+        const std::vector<Value> apertures = o.get("apertures").non_empty_array("radii (view steps)");
+        for (const char* list : {"disparities", "depths"}) {
+            const auto values = o.find(list);
+            if (!values) continue;
+            for (const Value& f : values->non_empty_array()) {
+                StackRequest q;
+                read_focus(f, std::string(list) == "disparities", q);
+                for (const Value& a : apertures) {
+                    q.aperture_radius = a.non_negative();
+                    s.references.push_back(q);
+                }
+            }
         }
     }
+    if (const auto refs = o.find("references"))
+        for (const Value& r : refs->array()) {
+            const Object ro = r.object({"disparity", "depth", "aperture"});
+            const bool has_d = ro.has("disparity"), has_z = ro.has("depth");
+            if (has_d == has_z) ro.fail("give exactly one of disparity (px per view step) or depth");
+            StackRequest q;
+            read_focus(ro.get(has_d ? "disparity" : "depth"), has_d, q);
+            q.aperture_radius = ro.get("aperture", "radius in view steps").non_negative();
+            s.references.push_back(q);
+        }
+    if (s.references.empty())
+        fail("references", "no references (give references, or disparities/depths with apertures)", StatusCode::NotFound);
+    return s;
 }
 
-// A number, or "inf" where allowed.
-double number(const json& j, const std::string& key, bool allow_inf = false) {
-    if (j.is_number()) return j.get<double>();
-    if (allow_inf && j.is_string() && (j.get<std::string>() == "inf" || j.get<std::string>() == "infinity")) return kInf;
-    fail(key, std::string("must be a number") + (allow_inf ? " or \"inf\"" : "") + ", got " + kind(j));
-}
-
-double positive(const json& j, const std::string& key) {
-    const double v = number(j, key);
-    if (!(v > 0) || !std::isfinite(v)) fail(key, "must be a positive number, got " + j.dump());
-    return v;
-}
-
-int integer(const json& j, const std::string& key) {
-    if (!j.is_number_integer()) fail(key, "must be an integer, got " + kind(j));
-    return j.get<int>();
-}
-
-json parse_text(const std::string& text, const std::string& where) {
-    try {
-        return json::parse(text, nullptr, true, /*ignore_comments=*/true);
-    } catch (const json::parse_error& e) {
-        throw Fail{"malformed JSON (byte " + std::to_string(e.byte) + "): " + e.what()};
-    }
-}
-
-Result<std::string> read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Status::error("cannot open '" + path + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+// The file's text through `parse`, the file named as the source.
+template <class T>
+Result<T> read_file(const std::string& path, Result<T> (*parse)(const std::string&, const std::string&)) {
+    const Result<std::string> text = read_text(path);
+    if (!text) return text.status();
+    return parse(text.value(), "'" + path + "'");
 }
 
 }  // namespace
 
 Result<LightFieldConfig> parse_lightfield_config(const std::string& text, const std::string& where) {
-    try {
-        const json j = parse_text(text, where);
-        allow_only(j, "", {"gdof_lightfield", "disparity_at_infinity", "focal_baseline", "baseline", "focal_length_mm",
-                           "sensor_width_mm", "scene_unit_mm", "center", "crop", "comment"});
-        LightFieldConfig c;
-        if (j.contains("gdof_lightfield") && integer(j["gdof_lightfield"], "gdof_lightfield") != 1)
-            fail("gdof_lightfield", "unsupported version " + j["gdof_lightfield"].dump() + " (expected 1)");
-        if (j.contains("disparity_at_infinity")) {
-            c.disparity_at_infinity = number(j["disparity_at_infinity"], "disparity_at_infinity");
-            if (!std::isfinite(c.disparity_at_infinity)) fail("disparity_at_infinity", "must be finite");
-        }
-        if (j.contains("focal_baseline")) {
-            c.focal_baseline = number(j["focal_baseline"], "focal_baseline");
-            if (!std::isfinite(c.focal_baseline) || c.focal_baseline == 0)
-                fail("focal_baseline", "must be a finite non-zero number, got " + j["focal_baseline"].dump());
-        }
-        if (j.contains("baseline")) {
-            if (j.contains("focal_baseline")) fail("baseline", "give either focal_baseline or baseline, not both");
-            c.baseline = number(j["baseline"], "baseline");
-            if (!std::isfinite(c.baseline) || c.baseline == 0)
-                fail("baseline", "must be a finite non-zero number (scene units per view step), got " +
-                                     j["baseline"].dump());
-            for (const char* k : {"focal_length_mm", "sensor_width_mm"})
-                if (!j.contains(k)) fail(k, "required with baseline (focal length in pixels = focal_length_mm / sensor_width_mm * width)");
-        }
-        if (j.contains("focal_length_mm")) c.focal_length_mm = positive(j["focal_length_mm"], "focal_length_mm");
-        if (j.contains("sensor_width_mm")) c.sensor_width_mm = positive(j["sensor_width_mm"], "sensor_width_mm");
-        if (j.contains("scene_unit_mm")) c.scene_unit_mm = positive(j["scene_unit_mm"], "scene_unit_mm");
-        if (j.contains("center")) {
-            const json& a = j["center"];
-            if (!a.is_array() || a.size() != 2)
-                fail("center", "must be [row, column] (file indices of the central view), got " + a.dump());
-            c.center = std::array<int, 2>{integer(a[0], "center[0]"), integer(a[1], "center[1]")};
-        }
-        if (j.contains("crop")) {
-            const json& o = j["crop"];
-            allow_only(o, "crop", {"x", "y", "width", "height"});
-            for (const char* k : {"x", "y", "width", "height"})
-                if (!o.contains(k)) fail(std::string("crop.") + k, "missing");
-            const int x = integer(o["x"], "crop.x"), y = integer(o["y"], "crop.y");
-            const int w = integer(o["width"], "crop.width"), h = integer(o["height"], "crop.height");
-            if (w <= 0) fail("crop.width", "must be > 0, got " + std::to_string(w));
-            if (h <= 0) fail("crop.height", "must be > 0, got " + std::to_string(h));
-            c.crop = Roi{x, y, x + w, y + h};
-        }
-        return c;
-    } catch (const Fail& f) {
-        return Status::error(where + ": " + f.message);
-    } catch (const json::exception& e) {
-        return Status::error(where + ": " + e.what());
-    }
+    return json_read::read_document(text, where, read_config, Comments::Allowed);
 }
 
-Result<LightFieldConfig> read_lightfield_config(const std::string& path) {
-    auto t = read_text(path);
-    if (!t) return t.status();
-    return parse_lightfield_config(t.value(), "'" + path + "'");
-}
+Result<LightFieldConfig> read_lightfield_config(const std::string& path) { return read_file(path, parse_lightfield_config); }
 
 Result<ExtractStackOptions> parse_extract_stack_options(const std::string& text, const std::string& where) {
-    try {
-        const json j = parse_text(text, where);
-        allow_only(j, "", {"gdof_lightfield_stack", "coc_px", "filter", "references", "disparities", "depths",
-                           "apertures", "comment"});
-        ExtractStackOptions s;
-        if (j.contains("gdof_lightfield_stack") && integer(j["gdof_lightfield_stack"], "gdof_lightfield_stack") != 1)
-            fail("gdof_lightfield_stack", "unsupported version " + j["gdof_lightfield_stack"].dump() + " (expected 1)");
-        if (j.contains("coc_px")) s.coc_px = positive(j["coc_px"], "coc_px");
-        if (j.contains("filter")) {
-            if (!j["filter"].is_string()) fail("filter", "must be \"bicubic\" or \"bilinear\", got " + kind(j["filter"]));
-            auto f = parse_lightfield_filter(j["filter"].get<std::string>());
-            if (!f) fail("filter", f.message());
-            s.filter = f.value();
-        }
-        auto aperture = [](const json& v, const std::string& key) {
-            const double r = number(v, key);
-            if (!(r >= 0) || !std::isfinite(r)) fail(key, "must be >= 0 (radius in view steps), got " + v.dump());
-            return r;
-        };
-        // The grid form: every focus (disparities, then depths) with every aperture.
-        const bool grid = j.contains("disparities") || j.contains("depths");
-        if (grid && !j.contains("apertures")) fail("apertures", "required with disparities / depths");
-        if (j.contains("apertures") && !grid) fail("apertures", "needs disparities or depths to pair with");
-        if (grid) {
-            const json& ap = j["apertures"];
-            if (!ap.is_array() || ap.empty()) fail("apertures", "must be a non-empty array of radii (view steps)");
-            for (const char* list : {"disparities", "depths"}) {
-                if (!j.contains(list)) continue;
-                const json& a = j[list];
-                if (!a.is_array() || a.empty()) fail(list, "must be a non-empty array");
-                for (std::size_t i = 0; i < a.size(); ++i) {
-                    const std::string key = std::string(list) + "[" + std::to_string(i) + "]";
-                    StackRequest q;
-                    if (std::string(list) == "disparities") {
-                        q.focus_disparity = number(a[i], key);
-                        if (!std::isfinite(q.focus_disparity)) fail(key, "must be finite");
-                    } else {
-                        q.focus_depth = number(a[i], key, true);
-                        if (!(q.focus_depth > 0)) fail(key, "must be > 0 or \"inf\", got " + a[i].dump());
-                    }
-                    for (std::size_t k = 0; k < ap.size(); ++k) {
-                        q.aperture_radius = aperture(ap[k], "apertures[" + std::to_string(k) + "]");
-                        s.references.push_back(q);
-                    }
-                }
-            }
-        }
-        if (j.contains("references")) {
-            const json& a = j["references"];
-            if (!a.is_array()) fail("references", "must be an array, got " + kind(a));
-            for (std::size_t i = 0; i < a.size(); ++i) {
-                const std::string key = "references[" + std::to_string(i) + "]";
-                allow_only(a[i], key, {"disparity", "depth", "aperture"});
-                StackRequest q;
-                const bool has_d = a[i].contains("disparity"), has_z = a[i].contains("depth");
-                if (has_d == has_z) fail(key, "give exactly one of disparity (px per view step) or depth");
-                if (has_d) {
-                    q.focus_disparity = number(a[i]["disparity"], key + ".disparity");
-                    if (!std::isfinite(q.focus_disparity)) fail(key + ".disparity", "must be finite");
-                } else {
-                    q.focus_depth = number(a[i]["depth"], key + ".depth", true);
-                    if (!(q.focus_depth > 0)) fail(key + ".depth", "must be > 0 or \"inf\", got " + a[i]["depth"].dump());
-                }
-                if (!a[i].contains("aperture")) fail(key + ".aperture", "missing (radius in view steps)");
-                q.aperture_radius = aperture(a[i]["aperture"], key + ".aperture");
-                s.references.push_back(q);
-            }
-        }
-        if (s.references.empty()) fail("references", "no references (give references, or disparities/depths with apertures)");
-        return s;
-    } catch (const Fail& f) {
-        return Status::error(where + ": " + f.message);
-    } catch (const json::exception& e) {
-        return Status::error(where + ": " + e.what());
-    }
+    return json_read::read_document(text, where, read_extract, Comments::Allowed);
 }
 
 Result<ExtractStackOptions> read_extract_stack_options(const std::string& path) {
-    auto t = read_text(path);
-    if (!t) return t.status();
-    return parse_extract_stack_options(t.value(), "'" + path + "'");
+    return read_file(path, parse_extract_stack_options);
 }
 
 }  // namespace gdof::io

@@ -2,22 +2,23 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "gdof/io/sequence.h"
+#include "gdof/text_file.h"
+#include "common/json_read.h"
 
 namespace gdof::io {
 
 namespace {
 
 namespace fs = std::filesystem;
-using json = nlohmann::json;
+using json = json_read::json;
+using json_read::Object;
+using json_read::Value;
 
 struct Header {
     int width = 0, height = 0;
@@ -72,6 +73,19 @@ std::vector<std::string> split_csv_line(const std::string& line) {
     return out;
 }
 
+// A number cell: finite, as JSON numbers are (no "nan", "inf" or overflow).
+std::optional<double> number_cell(const std::string& cell) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(cell, &used);
+    } catch (...) {
+        return std::nullopt;
+    }
+    if (used == 0 || used != cell.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
 std::string resolve(const std::string& base, const std::string& p) {
     return fs::path(p).is_absolute() || base.empty() ? p : (fs::path(base) / p).string();
 }
@@ -105,14 +119,17 @@ Status expand_from_attributes(json& j, const std::string& base, const std::strin
 
 Status expand_from_table(json& j, const std::string& base, const std::string& pattern, const std::string& table) {
     const std::string tpath = resolve(base, table);
-    std::ifstream in(tpath);
-    if (!in) return Status::error("table '" + tpath + "' not found");
-    std::string line;
+    const Result<std::string> text = read_text(tpath, "table");
+    if (!text) return text.status();
     std::vector<std::string> header;
     json refs = json::array();
     int lineno = 0;
     static const char* kNumeric[] = {"focus_distance", "f_number", "focal_length_mm", "sensor_width_mm", "near", "far"};
-    while (std::getline(in, line)) {
+    for (std::size_t pos = 0; pos < text->size();) {
+        std::size_t end = text->find('\n', pos);
+        if (end == std::string::npos) end = text->size();
+        const std::string line = text->substr(pos, end - pos);
+        pos = end + 1;
         ++lineno;
         if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
         auto cells = split_csv_line(line);
@@ -142,18 +159,13 @@ Status expand_from_table(json& j, const std::string& base, const std::string& pa
                 r["file"] = cells[c];
                 continue;
             }
-            if (h == "far" && (cells[c] == "inf" || cells[c] == "infinity")) {
+            if (h == "far" && cells[c] == "inf") {
                 r["far"] = "inf";
                 continue;
             }
-            std::size_t used = 0;
-            double v = 0;
-            try {
-                v = std::stod(cells[c], &used);
-            } catch (...) {
-                used = 0;
-            }
-            if (used == 0 || used != cells[c].size()) return Status::error(where + ": not a number: '" + cells[c] + "'");
+            const std::optional<double> number = number_cell(cells[c]);
+            if (!number) return Status::error(where + ": not a number: '" + cells[c] + "'");
+            const double v = *number;
             if (h == "frame") {
                 if (pattern.empty()) return Status::error(where + ": a 'frame' column needs \"pattern\" in the manifest");
                 auto file = expand_frame_pattern(pattern, int(v));
@@ -176,39 +188,42 @@ Status expand_from_table(json& j, const std::string& base, const std::string& pa
     return Status::ok();
 }
 
+// A manifest with "pattern" / "table" / "lens_from" -> the same manifest
+// listing its references; any other manifest as it is.
+json expand(json j, const std::string& base) {
+    if (!j.is_object() || (!j.contains("pattern") && !j.contains("table") && !j.contains("lens_from"))) return j;
+    const Object o = Value(j, "").object();
+    if (o.has("references")) o.fail("give \"references\" or \"pattern\"/\"table\", not both");
+    const std::string pattern = o.has("pattern") ? o.get("pattern").string() : std::string();
+    const std::string lens_from =
+        o.has("lens_from") ? o.get("lens_from").string() : std::string(o.has("table") ? "table" : "attributes");
+    Status st;
+    if (lens_from == "attributes" && !o.has("table")) {
+        if (pattern.empty()) json_read::fail("lens_from", "\"attributes\" needs \"pattern\"", StatusCode::NotFound);
+        st = expand_from_attributes(j, base, pattern);
+    } else if (o.has("table")) {
+        st = expand_from_table(j, base, pattern, o.get("table").string());
+    } else {
+        json_read::fail("lens_from", "must be \"attributes\", or give a \"table\" (CSV file)");
+    }
+    if (!st) json_read::fail("", st);
+    for (const char* k : {"pattern", "table", "lens_from"}) j.erase(k);
+    return j;
+}
+
 }  // namespace
 
 Result<FocalStack> load_stack(const std::string& manifest_path) {
-    std::ifstream in(manifest_path, std::ios::binary);
-    if (!in) return Status::error("stack manifest '" + manifest_path + "' not found");
-    std::stringstream ss;
-    ss << in.rdbuf();
+    const std::string where = "stack manifest '" + manifest_path + "'";
+    const Result<std::string> text = read_text(manifest_path, "stack manifest");
+    if (!text) return text.status();
     std::error_code ec;
     const std::string base = fs::absolute(fs::path(manifest_path), ec).parent_path().string();
-    json j;
-    try {
-        j = json::parse(ss.str());
-    } catch (const json::exception& e) {
-        return Status::error("stack manifest '" + manifest_path + "': " + e.what());
-    }
-    if (j.is_object() && (j.contains("pattern") || j.contains("table") || j.contains("lens_from"))) {
-        if (j.contains("references"))
-            return Status::error("stack manifest '" + manifest_path + "': give \"references\" or \"pattern\"/\"table\", not both");
-        const std::string pattern = j.value("pattern", std::string());
-        const std::string lens_from = j.value("lens_from", std::string(j.contains("table") ? "table" : "attributes"));
-        Status st;
-        if (lens_from == "attributes" && !j.contains("table")) {
-            if (pattern.empty()) return Status::error("stack manifest '" + manifest_path + "': \"lens_from\": \"attributes\" needs \"pattern\"");
-            st = expand_from_attributes(j, base, pattern);
-        } else if (j.contains("table") && j["table"].is_string()) {
-            st = expand_from_table(j, base, pattern, j["table"].get<std::string>());
-        } else {
-            return Status::error("stack manifest '" + manifest_path + "': \"lens_from\" must be \"attributes\", or give a \"table\" (CSV file)");
-        }
-        if (!st) return st.prefix("stack manifest '" + manifest_path + "'");
-        for (const char* k : {"pattern", "table", "lens_from"}) j.erase(k);
-    }
-    auto stack = parse_stack_manifest(j.dump(), base);
+    Result<json> doc = json_read::parse(text.value());
+    if (!doc) return json_read::with_source(doc.status(), where);
+    const Result<json> manifest = json_read::catch_errors(where, [&] { return expand(std::move(doc).value(), base); });
+    if (!manifest) return manifest.status();
+    auto stack = parse_stack_manifest(manifest->dump(), base);
     if (!stack) return stack.status().prefix("'" + manifest_path + "'");
     return stack;
 }

@@ -25,7 +25,6 @@
 #include "gdof/compositing.h"
 #include "gdof/focal_stack.h"
 #include "gdof/io/colour.h"
-#include "gdof/metadata.h"
 #include "gdof/status.h"
 
 namespace gdof::io {
@@ -38,12 +37,6 @@ struct StackReaderOptions {
     int cache_tile = 64;                   // tile / strip height for untiled files
 };
 
-// What a reference file is, once opened.
-struct ReferenceInfo {
-    Roi data_window, display_window;
-    Metadata metadata;  // header attributes (camera, lens, ...)
-};
-
 class StackReader final : public StackPixels {
 public:
     static Result<std::unique_ptr<StackReader>> create(const FocalStack& stack, const StackReaderOptions& opts = {});
@@ -54,8 +47,9 @@ public:
     int size() const override;
     // Thread-safe. Tile in the stack's local coordinates ([0, w) x [0, h)).
     Status read_tile(int ref, const Roi& tile, float* rgba) override;
-    // Opens reference `ref` if needed (checking its size) and describes it.
-    Result<ReferenceInfo> info(int ref);
+    // Opens reference `ref` if needed (checking its size) and describes it
+    // (gdof::ReferenceInfo: windows and header).
+    Result<ReferenceInfo> info(int ref) override;
     // Distinct references opened so far (by this reader).
     int files_opened() const;
     // OpenImageIO's own count of files the cache has opened since this reader

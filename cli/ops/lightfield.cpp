@@ -2,7 +2,8 @@
 // extracts a focus/aperture stack from a light field by shift-and-add
 // (gdof/lightfield.h). The -o pattern's frame number is the reference index
 // (from 1); manifest.json goes beside the images, written last
-// (StackOutput, stack_output.cpp).
+// (StackOutput, stack_output.cpp). --stack's row is render.cpp's (it also
+// names the stack --render makes).
 #include <chrono>
 #include <cstdio>
 
@@ -10,8 +11,9 @@
 #include "gdof/focal_stack.h"
 #include "gdof/io/image_io.h"
 #include "gdof/io/lightfield_io.h"
-#include "gdof/io/sequence.h"
 #include "gdof/lightfield.h"
+#include "ops/ops.h"
+#include "stack_output.h"
 
 namespace gdof::cli {
 
@@ -27,13 +29,13 @@ std::string fmt(const char* f, double v) {
 
 void do_lightfield_output(Frame& f, const std::string& pattern) {
     Session& s = *f.session;
-    const std::string source = f.lightfield;
-    f.lightfield.clear();
+    const std::string source = f.lightfield.source;
+    f.lightfield.source.clear();
     check_stack_pattern(pattern, "a light-field stack");
 
     io::LightFieldConfig config;
-    if (!f.lightfield_config.empty()) config = take(io::read_lightfield_config(f.lightfield_config), "--lf");
-    ExtractStackOptions spec = take(io::read_extract_stack_options(f.stack_spec), "--stack");
+    if (!f.lightfield.config.empty()) config = take(io::read_lightfield_config(f.lightfield.config), "--lf");
+    ExtractStackOptions spec = take(io::read_extract_stack_options(f.lightfield.stack_spec), "--stack");
     spec.scene_unit_mm = config.scene_unit_mm;
 
     const StackOutput out(f, pattern, spec.references.size());
@@ -52,7 +54,7 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     }
     const Image& central = lf.central();
     // Plan first: bad references fail before any file is written.
-    FocalStack planned = take(plan_stack(lf, spec), "--stack '" + f.stack_spec + "'");
+    FocalStack planned = take(plan_stack(lf, spec), "--stack '" + f.lightfield.stack_spec + "'");
     out.create_folder();
     if (s.progress.enabled() || s.global.verbose)
         s.progress.message("gdof: --lightfield '" + source + "': " + std::to_string(lf.rows) + " x " +
@@ -102,6 +104,21 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
                            fmt("%.1f", refocus_s > 0 ? view_pixels / refocus_s / 1e6 : 0.0) +
                            " M view x pixels/s (" + std::to_string(central.nchannels()) + " channels)");
     }
+}
+
+std::vector<Command> lightfield_commands() {
+    const std::string L = "Stacks from light fields (method 2)";
+    std::vector<Command> t;
+    // The views' pattern numbers rows and columns, not frames: no file_args.
+    t.push_back({.names = {"--lightfield"}, .args = "PATTERN|FOLDER", .kind = Kind::Action, .group = L,
+                 .help = "light-field views, e.g. 'views/2067_%02d_%02d.png' (row, column) or a Stanford-archive folder; "
+                         "the next -o (with ####) writes one refocused image per --stack reference and manifest.json",
+                 .stack = StackUse::PushesImage,
+                 .run = [](Frame& f, const Step& s) { f.lightfield.source = s.args[0]; }});
+    t.push_back({.names = {"--lf"}, .args = "FILE", .kind = Kind::Modifier, .group = L,
+                 .help = "light-field geometry JSON for --lightfield (disparity_at_infinity, ...)", .file_args = {0},
+                 .run = [](Frame& f, const Step& s) { f.lightfield.config = s.args[0]; }});
+    return t;
 }
 
 }  // namespace gdof::cli

@@ -1,21 +1,16 @@
-// Inputs, -o and --info.
+// Input and output: input files (and -i), -o, -d, --compression, --info.
+// -o writes the top image, or the stack a --lightfield or --render --stack
+// before it makes.
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "cli.h"
 #include "gdof/io/image_io.h"
+#include "ops/ops.h"
 
 namespace gdof::cli {
 
 namespace {
-
-// Library messages usually name the file already; add it when they do not.
-std::string with_file(const std::string& verb, const std::string& path, const std::string& message) {
-    if (message.find(path) != std::string::npos) return message;
-    return verb + " '" + path + "': " + message;
-}
 
 std::string lower_ext(const std::string& path) {
     std::string e = std::filesystem::path(path).extension().string();
@@ -29,28 +24,7 @@ bool is_display_format(const std::string& path) {
            e == ".webp" || e == ".ppm" || e == ".pgm" || e == ".pnm";
 }
 
-}  // namespace
-
-std::string read_text(const std::string& flag, const std::string& what, const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) runtime_error(flag + ": " + what + " '" + path + "' not found");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) runtime_error(flag + ": cannot open " + what + " '" + path + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-std::string working_space(const io::ColourConfig& config) {
-    for (const char* n : {"scene_linear", "linear", "default"}) {
-        std::string r = config.resolve(n);
-        if (!r.empty() && config.is_linear(r)) return r;
-    }
-    for (const std::string& n : config.colour_spaces())
-        if (config.is_linear(n)) return n;
-    return {};
-}
-
+// The image library's messages name the file (image_io.h).
 void do_input(Frame& f, const std::string& path) {
     Session& s = *f.session;
     io::ReadOptions ro;
@@ -65,7 +39,7 @@ void do_input(Frame& f, const std::string& path) {
             std::error_code ec;
             if (!std::filesystem::exists(path, ec)) runtime_error("input file '" + path + "' not found");
             check_interrupted();
-            runtime_error(with_file("reading", path, r.message()));
+            runtime_error(r.message());
         }
         e.images = std::move(r).value();
     }
@@ -81,11 +55,7 @@ void do_input(Frame& f, const std::string& path) {
 void do_output(Frame& f, const std::string& path) {
     Session& s = *f.session;
     StackEntry& top = f.top("-o");
-    io::WriteOptions wo;
-    wo.pixel_type = f.output_pixel_type;
-    wo.compression = f.output_compression;
-    wo.colorspace = f.output_colorspace;
-    wo.colour = s.colour.get();
+    io::WriteOptions wo = f.output;
 
     const ImageSet* images = &top.images;
     ImageSet converted;
@@ -93,7 +63,7 @@ void do_output(Frame& f, const std::string& path) {
         // The colour channels are no longer scene-linear (--colorconvert): the
         // writer converts from the working space, so convert here instead and
         // tell the writer to leave the values alone.
-        std::string target = f.output_colorspace;
+        std::string target = f.output.colorspace;
         if (target.empty()) target = is_display_format(path) ? std::string("sRGB") : top.colorspace;
         const std::string lin = working_space(*s.colour);
         if (lin.empty()) runtime_error("-o '" + path + "': the colour config has no scene-linear space");
@@ -114,7 +84,7 @@ void do_output(Frame& f, const std::string& path) {
     Status st = io::write_image(path, *images, wo);
     if (!st) {
         check_interrupted();
-        runtime_error(with_file("writing", path, st.message()));
+        runtime_error(st.message());
     }
     if (s.global.verbose) s.progress.message("gdof: wrote " + path);
 }
@@ -128,6 +98,46 @@ void do_info(Frame& f) {
     std::cout << io::describe(top.images, top.source.empty() ? std::string("(result)") : top.source,
                               f.session->global.verbose);
     std::cout.flush();
+}
+
+// -o: a rendered stack, a light-field stack, or the top image.
+void run_output(Frame& f, const Step& s) {
+    if (s.stack_output && !f.render.stack_spec.empty()) do_render_stack_output(f, s.args[0]);
+    else if (s.stack_output) do_lightfield_output(f, s.args[0]);
+    else do_output(f, s.args[0]);
+}
+
+}  // namespace
+
+std::vector<Command> io_commands() {
+    const std::string O = "Input and output";
+    std::vector<Command> t;
+    t.push_back({.names = {"-i"}, .args = "FILE", .kind = Kind::Action, .group = O,
+                 .help = "read FILE (same as giving FILE alone)", .file_args = {0},
+                 .run = [](Frame& f, const Step& s) { do_input(f, s.args[0]); }});
+    t.push_back({.names = {"-o"}, .args = "FILE", .kind = Kind::Action, .group = O,
+                 .help = "write the top image to FILE (atomically)", .file_args = {0}, .stack = StackUse::NeedsImage,
+                 .run = run_output,
+                 // A rendered stack is the pending --render's own output.
+                 .lets_wait = [](const Frame& f, const Step& s) -> unsigned {
+                     return s.stack_output && !f.render.stack_spec.empty() ? kRenderWaits | kCompositeWaits
+                                                                           : kNothingWaits;
+                 }});
+    t.push_back({.names = {"-d"}, .args = "TYPE", .kind = Kind::Modifier, .group = O,
+                 .help = "pixel type of the following outputs: half or float",
+                 .run = [](Frame& f, const Step& s) { f.output.pixel_type = s.args[0]; },
+                 .check = [](const Step& s) {
+                     if (s.args[0] != "half" && s.args[0] != "float")
+                         usage_error("-d: unknown pixel type '" + s.args[0] + "' (expected half or float)");
+                 }});
+    t.push_back({.names = {"--compression"}, .args = "NAME", .kind = Kind::Modifier, .group = O,
+                 .help = "compression of the following outputs (zip, piz, dwaa:45, none ...)",
+                 .allows_empty_value = true,
+                 .run = [](Frame& f, const Step& s) { f.output.compression = s.args[0]; }});
+    t.push_back({.names = {"--info"}, .kind = Kind::Action, .group = O,
+                 .help = "describe the top image, or (before any input) each input file", .is_work = true,
+                 .run = [](Frame& f, const Step&) { do_info(f); }});
+    return t;
 }
 
 }  // namespace gdof::cli

@@ -1,0 +1,123 @@
+// --diffuse: method 3, generalized defocus by simulated heat diffusion of
+// layers (gdof/defocus.h). The top image (deep, multipart / multilayer with
+// P or Z, or flat RGBA + depth) becomes one flat part: R, G, B, A defocused,
+// the other channels of a flat input carried over. Modifiers before it:
+// --solver, --layers, --adi-steps (Frame::defocus), and the --eval-blur ones
+// (positions, depth channel and encoding, lens overrides).
+#include "camera_field.h"
+#include "cli.h"
+#include "gdof/defocus.h"
+#include "gdof/diffusion.h"
+#include "gdof/layers.h"
+#include "ops/ops.h"
+
+namespace gdof::cli {
+
+namespace {
+
+// The part whose camera and display window the result takes (as defocus()
+// does: the first deep part, else the first part).
+std::size_t reference_part(const ImageSet& set) {
+    for (std::size_t i = 0; i < set.size(); ++i)
+        if (set.is_deep(i)) return i;
+    return 0;
+}
+
+Roi part_display(const ImageSet& set, std::size_t i) {
+    return set.is_deep(i) ? set.deep(i).display_window() : set.flat(i).display_window();
+}
+
+void report_defocus(Frame& f, const std::string& where, const DefocusStats& stats) {
+    Session& s = *f.session;
+    s.stats.add(" layers", stats.t_layers);
+    s.stats.add(" blur map", stats.t_blur);
+    s.stats.add(" extrapolate", stats.t_extrapolate);
+    s.stats.add(" solve", stats.t_diffuse);
+    s.stats.add(" composite", stats.t_composite);
+    if (s.global.stats || s.global.verbose) {
+        // The library's report without its title line, headed by what ran.
+        std::string rep = stats.report();
+        rep = rep.substr(rep.find('\n') + 1);
+        if (!rep.empty() && rep.back() == '\n') rep.pop_back();
+        s.progress.message("gdof: --diffuse " + where + (f.frame ? " frame " + std::to_string(*f.frame) : "") +
+                           " (solver " + to_string(f.defocus.diffusion.solver) + "):\n" + rep);
+    }
+}
+
+void do_diffuse(Frame& f) {
+    Session& s = *f.session;
+    StackEntry& top = f.top("--diffuse");
+    const std::string where = image_name(top);
+    if (top.images.empty()) runtime_error("--diffuse: " + where + " has no image parts");
+    if (!top.colorspace.empty())
+        runtime_error("--diffuse: the colour channels of " + where + " are in '" + top.colorspace +
+                      "' (after --colorconvert); diffuse in the scene-linear working space, convert afterwards");
+
+    const std::size_t ref = reference_part(top.images);
+    const Camera camera = part_camera(f, top.images.metadata(ref), part_display(top.images, ref), "--diffuse", where);
+    const BlurField field = field_for(f, camera, "--diffuse", where);
+    DefocusOptions options = f.defocus;
+    options.source = f.source;
+
+    DefocusStats stats;
+    Result<ImageSet> result = ImageSet{};
+    {
+        StageTimer timer(s.stats, "diffuse");
+        s.progress.begin("diffuse");
+        result = defocus(top.images, field, camera, options, &stats, s.exec);
+        s.progress.end();
+    }
+    check_interrupted();
+    if (!result) runtime_error("--diffuse: " + where + ": " + message_naming_flag(result.status()));
+    top.images = std::move(result).value();
+    report_defocus(f, where, stats);
+}
+
+// The values of --solver, --layers, --adi-steps; usage errors naming the flag.
+DiffusionSolver solver(const Step& s) {
+    auto r = parse_diffusion_solver(s.args[0].c_str());
+    if (!r) usage_error(s.flag + ": " + r.message());
+    return r.value();
+}
+
+LayerSplit layer_split(const Step& s) {
+    auto r = parse_layer_split(s.args[0]);
+    if (!r) usage_error(s.flag + ": " + r.message());
+    return std::move(r).value();
+}
+
+int adi_steps(const Step& s) {
+    const int k = parse_int(s.flag, s.args[0]);
+    if (k < 0 || k > 1000) usage_error(s.flag + ": expected 0 (automatic) to 1000, got '" + s.args[0] + "'");
+    return k;
+}
+
+}  // namespace
+
+std::vector<Command> diffuse_commands() {
+    const std::string D = "Defocus by heat diffusion (method 3)";
+    std::vector<Command> t;
+    t.push_back({.names = {"--diffuse"}, .kind = Kind::Action, .group = D,
+                 .help = "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
+                         "(default: the camera's thin lens) and composited",
+                 .stack = StackUse::NeedsImage, .run = [](Frame& f, const Step&) { do_diffuse(f); }});
+    t.push_back({.names = {"--solver"}, .args = "NAME", .kind = Kind::Modifier, .group = D,
+                 .help = "diffusion solver: auto (default: per layer, explicit up to about 15 px of blur, else adi), adi "
+                         "(cost independent of the blur) or explicit (the paper's reference)",
+                 .run = [](Frame& f, const Step& s) { f.defocus.diffusion.solver = solver(s); },
+                 .check = [](const Step& s) { solver(s); }});
+    t.push_back({.names = {"--layers"}, .args = "N|auto[:OPTS]|id[:CHANNEL]", .kind = Kind::Modifier, .group = D,
+                 .help = "how --diffuse splits the input into layers: auto (depth clusters; deep inputs also cut where "
+                         "the blur changes by more than max(2 px, largest/4)); options after auto: MAX layers, blur (cut "
+                         "flat+Z inputs too), blur=PX, gaps (no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep "
+                         "id channel",
+                 .run = [](Frame& f, const Step& s) { f.defocus.split = layer_split(s); },
+                 .check = [](const Step& s) { layer_split(s); }});
+    t.push_back({.names = {"--adi-steps"}, .args = "K", .kind = Kind::Modifier, .group = D,
+                 .help = "ADI sub-steps per layer (default 0: automatic, up to 64)",
+                 .run = [](Frame& f, const Step& s) { f.defocus.diffusion.adi_steps = adi_steps(s); },
+                 .check = [](const Step& s) { adi_steps(s); }});
+    return t;
+}
+
+}  // namespace gdof::cli
