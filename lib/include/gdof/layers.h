@@ -124,9 +124,10 @@ Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const Position
 // mixed silhouette pixels split), or else the depth channel
 // (source.depth_channel or Z, depth.Z, Depth.Z, depth, Depth) decoded with
 // source.depth_decode, where a depth that is not finite (a hole, sky) is
-// +inf. A mixed pixel goes to its background's slice whole, and to its
-// foreground's slice with the foreground's share of its colour and alpha (so
-// `over` gives the pixel back exactly). Position channels are carried.
+// +inf. A mixed pixel goes to its background's slice with the background's
+// colour, and to its foreground's slice with the foreground's colour and
+// share of its alpha (so `over` gives the pixel back exactly). Position
+// channels are carried (without a prepared depth).
 //
 // Continued surfaces (continue_surfaces): a slice boundary that cuts a
 // continuous surface (a floor, a wall: depth maps are continuous) must not
@@ -138,13 +139,20 @@ Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const Position
 // a silhouette (a depth step larger than `continuity`) stops the
 // continuation, so a foreground never shows behind itself.
 //
-// Extension: for every slice but the nearest non-empty one, the pixels
-// present in nearer slices (hidden behind them) within `extend_px` pixels
-// (Euclidean) of the slice's own pixels -- for the farthest non-empty slice
-// all hidden pixels of the image -- that are not continued get alpha 1 and a
-// push-pull fill (fill.h) of the slice's unpremultiplied colour (weights = its
-// alpha) and of its depth and positions (weights = its alpha where finite),
-// so blurring a foreground away reveals plausible background, not black.
+// What lies behind a hidden pixel is the background seen nearest to it:
+// among the slices behind the pixel's own, only the one whose own pixels are
+// nearest (Euclidean) continues or extends there. So the back of a wall's
+// near strip is its next strip where they meet, but the sky where the strip
+// meets the sky (a second copy of the strip's silhouette would otherwise
+// blur out over the sky twice).
+//
+// Extension: for every slice but the nearest non-empty one, its hidden
+// pixels (present in nearer slices) within `extend_px` pixels (Euclidean)
+// of the slice's own pixels -- for the farthest non-empty slice all hidden
+// pixels of the image -- that are not continued get alpha 1 and a push-pull
+// fill (fill.h) of the slice's unpremultiplied colour (weights = its alpha)
+// and of its depth and positions (weights = its alpha where finite), so
+// blurring a foreground away reveals plausible background, not black.
 struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding (when `depth` is null)
@@ -152,7 +160,7 @@ struct SliceOptions {
     // Optional: the blur radius of every pixel (row-major over the image's
     // data window), for Auto's blur cuts; empty: gaps only. With a prepared
     // depth that has mixed pixels, `fg_radius` gives their foregrounds'
-    // radii (NaN elsewhere). Not owned.
+    // radii (one per entry of depth->mixed). Not owned.
     std::span<const float> radius, fg_radius;
     // The plate's prepared depth over the image's data window; not owned.
     const PlateDepth* depth = nullptr;
@@ -175,6 +183,10 @@ struct ExtendOptions {
     // A pixel is hidden when the nearer layers' accumulated alpha reaches
     // this (deep renders: 0.999, fully occluded); 0 = any nearer coverage.
     float occluder_alpha = 0.0f;
+    // Optional, per frame pixel (row-major over `frame`): the one layer that
+    // may extend there (-1: none but the farthest when it fills the frame).
+    // Empty: every layer may. Not owned.
+    std::span<const int> owner;
 };
 Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                             const Exec& exec = {});

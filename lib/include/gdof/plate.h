@@ -15,11 +15,14 @@
 //      filled from the hole's edge inwards, so a fill follows the plate's
 //      edges instead of blurring across a silhouette;
 //   4. mixed pixels: a pixel whose depth lies strictly between a nearer and
-//      a farther neighbour across a discontinuity is split into the
-//      background's depth (the pixel's depth) and the foreground's depth with
-//      the foreground's share of the pixel (from where its depth lies between
-//      the two), so a blurred foreground's edge is soft as the plate's
-//      anti-aliasing says and no ring of intermediate depth appears.
+//      a farther surface across a discontinuity is split into its two parts:
+//      the foreground's depth and share of the pixel (from where its depth
+//      lies between the two) and the background's depth, and its colour into
+//      the two surfaces' colours (each from the pure pixels of that surface
+//      around it, corrected so the parts composite back to the pixel). So a
+//      blurred foreground's edge is soft as the plate's anti-aliasing says,
+//      no ring of intermediate depth appears, and the background continued
+//      behind a foreground does not take the foreground's colour.
 // The focus tools read the prepared depth: the median depth in a small
 // window around a pixel (robust to noise and holes) and a probe of depth,
 // world position and blur at a pixel.
@@ -60,17 +63,28 @@ struct DepthCleanupStats {
     std::string report() const;  // one line, for --stats
 };
 
+// A split silhouette pixel (step 4): `over` of the foreground part (colour
+// fg_rgb, premultiplied, scaled by fg_share) on the background part (bg_rgb)
+// gives the pixel's colour back.
+struct MixedPixel {
+    std::size_t index = 0;  // row-major over the window
+    float fg_depth = 0;     // the foreground's depth (the pixel's own, in `depth`, is the background's)
+    float fg_share = 0;     // the foreground's share of the pixel, in (0, 1)
+    float fg_rgb[3] = {0, 0, 0};
+    float bg_rgb[3] = {0, 0, 0};
+};
+
 // The prepared depth of a plate over its data window (row-major).
 struct PlateDepth {
     Roi window;
     // Metric depth along the viewing axis; +inf: sky. Every value is finite
-    // or +inf (holes are filled).
+    // or +inf (holes are filled). A mixed pixel's is its background's.
     std::vector<float> depth;
-    // Mixed pixels only (NaN elsewhere; empty when there are none): the
-    // foreground's depth and its share of the pixel in (0, 1).
-    std::vector<float> fg_depth, fg_coverage;
+    std::vector<MixedPixel> mixed;  // by increasing index
     DepthCleanupStats stats;
-    bool has_mixed() const { return !fg_depth.empty(); }
+    bool has_mixed() const { return !mixed.empty(); }
+    // The split of pixel `index`, or nullptr when it is not mixed.
+    const MixedPixel* mixed_at(std::size_t index) const;
 };
 
 // Decodes channel `depth_channel` of `plate` (resolving a disparity decode

@@ -161,32 +161,29 @@ Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& fiel
 // One flat RGBA + depth part -> layers_from_depth_map, extended by the
 // largest blur radius of the image.
 // The blur radius of every pixel of a plate at its prepared depth (pixel
-// centres), and of every mixed pixel's foreground (NaN elsewhere; empty
-// without mixed pixels).
+// centres), and of every mixed pixel's foreground (one per entry of pd.mixed).
 Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, std::vector<float>& r,
                    std::vector<float>& rf, const Exec& exec) {
     const Roi w = pd.window;
     const int W = w.width();
     r.assign(pd.depth.size(), 0.0f);
-    if (pd.has_mixed()) rf.assign(pd.depth.size(), std::numeric_limits<float>::quiet_NaN());
-    return parallel_run(exec, w.height(), [&](long y0, long y1) {
+    Status st = parallel_run(exec, w.height(), [&](long y0, long y1) {
         std::vector<PixelDepth> px(static_cast<std::size_t>(W));
-        std::vector<float> out(static_cast<std::size_t>(W));
         for (long yy = y0; yy < y1; ++yy) {
             const std::size_t row = std::size_t(yy) * std::size_t(W);
             for (int x = 0; x < W; ++x) px[std::size_t(x)] = {w.x0 + x + 0.5, w.y0 + yy + 0.5, pd.depth[row + std::size_t(x)]};
-            if (Status st = field.evaluate(camera, px, std::span<float>(r.data() + row, std::size_t(W))); !st) return st;
-            if (!pd.has_mixed()) continue;
-            for (int x = 0; x < W; ++x) {
-                const float f = pd.fg_depth[row + std::size_t(x)];
-                px[std::size_t(x)].depth = std::isnan(f) ? 1.0 : f;
-            }
-            if (Status st = field.evaluate(camera, px, out); !st) return st;
-            for (int x = 0; x < W; ++x)
-                if (!std::isnan(pd.fg_depth[row + std::size_t(x)])) rf[row + std::size_t(x)] = out[std::size_t(x)];
+            if (Status s = field.evaluate(camera, px, std::span<float>(r.data() + row, std::size_t(W))); !s) return s;
         }
         return Status::ok();
     }, 8, "blur map");
+    if (!st) return st;
+    std::vector<PixelDepth> fg(pd.mixed.size());
+    for (std::size_t k = 0; k < pd.mixed.size(); ++k) {
+        const std::size_t i = pd.mixed[k].index;
+        fg[k] = {w.x0 + double(i % std::size_t(W)) + 0.5, w.y0 + double(i / std::size_t(W)) + 0.5, pd.mixed[k].fg_depth};
+    }
+    rf.assign(fg.size(), 0.0f);
+    return field.evaluate(camera, fg, rf);
 }
 
 // A plate: its depth decoded and cleaned (holes, speckles, mixed silhouette

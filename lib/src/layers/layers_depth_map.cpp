@@ -25,8 +25,11 @@ namespace {
 struct PlateSamples {
     std::vector<float> depth;          // per pixel (+inf: sky, far slice); meaningful where present
     std::vector<unsigned char> present;
-    const float* fg_depth = nullptr;   // per pixel, NaN where not mixed (or null)
-    const float* fg_share = nullptr;
+    std::vector<int> mixed;            // per pixel: index into PlateDepth::mixed, -1 if not mixed (empty: none)
+    const std::vector<MixedPixel>* parts = nullptr;
+    const MixedPixel* mixed_at(std::size_t i) const {
+        return mixed.empty() || mixed[i] < 0 ? nullptr : &(*parts)[std::size_t(mixed[i])];
+    }
 };
 
 Status plate_samples(const Image& img, const SliceOptions& o, const float* r, const float* g, const float* b,
@@ -43,8 +46,9 @@ Status plate_samples(const Image& img, const SliceOptions& o, const float* r, co
         for (float& d : s.depth)
             if (!std::isfinite(d)) d = float(kInf);
         if (o.depth->has_mixed()) {
-            s.fg_depth = o.depth->fg_depth.data();
-            s.fg_share = o.depth->fg_coverage.data();
+            s.parts = &o.depth->mixed;
+            s.mixed.assign(n, -1);
+            for (std::size_t k = 0; k < o.depth->mixed.size(); ++k) s.mixed[o.depth->mixed[k].index] = int(k);
         }
         return Status::ok();
     }
@@ -101,9 +105,10 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
     if (!options.radius.empty() && options.radius.size() != n)
         return Status::error("depth-map layers: " + std::to_string(options.radius.size()) + " blur radii for " +
                              std::to_string(n) + " pixels");
-    if (!options.fg_radius.empty() && options.fg_radius.size() != n)
+    const std::size_t nmixed = ps.parts ? ps.parts->size() : 0;
+    if (!options.fg_radius.empty() && options.fg_radius.size() != nmixed)
         return Status::error("depth-map layers: " + std::to_string(options.fg_radius.size()) +
-                             " foreground blur radii for " + std::to_string(n) + " pixels");
+                             " foreground blur radii for " + std::to_string(nmixed) + " mixed pixels");
 
     // 2. Slices over every sample.
     std::vector<float> sample_depths, sample_radii;
@@ -113,9 +118,11 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
         if (!ps.present[i]) continue;
         sample_depths.push_back(ps.depth[i]);
         if (radii) sample_radii.push_back(options.radius[i]);
-        if (ps.fg_depth && !std::isnan(ps.fg_depth[i])) {
-            sample_depths.push_back(ps.fg_depth[i]);
-            if (radii) sample_radii.push_back(options.fg_radius.empty() ? options.radius[i] : options.fg_radius[i]);
+        if (const MixedPixel* m = ps.mixed_at(i)) {
+            sample_depths.push_back(m->fg_depth);
+            if (radii)
+                sample_radii.push_back(options.fg_radius.empty() ? options.radius[i]
+                                                                 : options.fg_radius[std::size_t(ps.mixed[i])]);
         }
     }
     const DepthSlices slices = choose_slices(sample_depths, options.split, sample_radii);
@@ -124,11 +131,24 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
     for (std::size_t i = 0; i < n; ++i) {
         if (!ps.present[i]) continue;
         slice[i] = slices.slice_of(ps.depth[i]);
-        if (ps.fg_depth && !std::isnan(ps.fg_depth[i])) {
-            const int f = slices.slice_of(ps.fg_depth[i]);
+        if (const MixedPixel* m = ps.mixed_at(i)) {
+            const int f = slices.slice_of(m->fg_depth);
             if (f != slice[i]) fg_slice[i] = f;  // in one slice the pixel is simply whole
         }
     }
+
+    // Which slice continues or extends behind each pixel (the background
+    // seen nearest to it).
+    std::vector<int> front(n, -1);
+    std::vector<std::vector<unsigned char>> own(static_cast<std::size_t>(ns), std::vector<unsigned char>(n, 0));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (slice[i] < 0) continue;
+        own[std::size_t(slice[i])][i] = 1;
+        front[i] = slice[i];
+        if (fg_slice[i] >= 0) own[std::size_t(fg_slice[i])][i] = 1, front[i] = std::min(front[i], fg_slice[i]);
+    }
+    const std::vector<int> owner = background_owners(front, own, W, H);
+    own.clear();
 
     // 3. Per slice: own samples, continued pixels of nearer slices.
     std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
@@ -150,7 +170,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
                     const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                     double z;
                     if (slice[i] == s) z = ps.depth[i];
-                    else if (fg_slice[i] == s) z = ps.fg_depth[i];
+                    else if (fg_slice[i] == s) z = ps.mixed_at(i)->fg_depth;
                     else continue;
                     own = unite(own, Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1});
                     znear = std::min(znear, z);
@@ -164,7 +184,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
             L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)"
                            : depth_range_name(L.depth_near, L.depth_far);
             Roi box = own;
-            if (!empty && reach > 0) box = unite(box, continue_surface(ps.depth, ps.present, slice, s, W, H, win,
+            if (!empty && reach > 0) box = unite(box, continue_surface(ps.depth, ps.present, slice, owner, s, W, H, win,
                                                                        options.continuity, reach, cont));
             else cont.clear();
 
@@ -183,13 +203,21 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
                         for (int c = 4; c < L.image.nchannels(); ++c) L.image.plane(c)[o] = kNaN;
                         continue;
                     }
-                    // A foreground sample: its share of the pixel, at its depth.
-                    const float k = whole ? 1.0f : ps.fg_share[i];
-                    L.image.plane(0)[o] = k * r[i];
-                    L.image.plane(1)[o] = k * g[i];
-                    L.image.plane(2)[o] = k * b[i];
-                    L.image.plane(3)[o] = k * (a ? a[i] : 1.0f);
-                    L.image.plane(4)[o] = whole ? ps.depth[i] : ps.fg_depth[i];
+                    // A split pixel: its foreground part in the foreground's
+                    // slice, its background part where the pixel is whole.
+                    // Split in two slices only: within one it is simply whole.
+                    const MixedPixel* m = fg_slice[i] >= 0 ? ps.mixed_at(i) : nullptr;
+                    const float alpha = a ? a[i] : 1.0f;
+                    if (!whole) {
+                        for (int c = 0; c < 3; ++c) L.image.plane(c)[o] = m->fg_share * m->fg_rgb[c];
+                        L.image.plane(3)[o] = m->fg_share * alpha;
+                        L.image.plane(4)[o] = m->fg_depth;
+                    } else {
+                        const float rgb[3] = {r[i], g[i], b[i]};
+                        for (int c = 0; c < 3; ++c) L.image.plane(c)[o] = m ? m->bg_rgb[c] : rgb[c];
+                        L.image.plane(3)[o] = alpha;
+                        L.image.plane(4)[o] = ps.depth[i];
+                    }
                     if (pos)
                         for (int c = 0; c < 3; ++c) L.image.plane(5 + c)[o] = pp[c][i];
                 }
@@ -203,6 +231,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
     ext.extend_px = options.extend_px;
     ext.farthest_fills_frame = true;
     ext.occluder_alpha = 0.0f;
+    ext.owner = owner;
     if (Status es = extend_layers_behind(layers, win, ext, exec); !es) return es;
     return layers;
 }

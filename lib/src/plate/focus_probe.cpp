@@ -40,7 +40,7 @@ Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const
     p.x = x, p.y = y;
     p.depth = depth_at(pd, x, y, r);
     const std::size_t i = std::size_t(y - pd.window.y0) * std::size_t(pd.window.width()) + std::size_t(x - pd.window.x0);
-    p.mixed = pd.has_mixed() && !std::isnan(pd.fg_depth[i]);
+    p.mixed = pd.mixed_at(i) != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     p.position = std::isfinite(p.depth) ? camera.unproject(x + 0.5, y + 0.5, p.depth) : Vec3{nan, nan, nan};
     const PixelDepth s{x + 0.5, y + 0.5, p.depth};

@@ -1,5 +1,6 @@
 // prepare_plate_depth (plate.h): decode, remove speckles, fill holes, split
 // mixed silhouette pixels, count what was done.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -66,18 +67,31 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
                              StatusCode::InvalidArgument, "depth_encoding");
     if (exec.is_cancelled()) return Status::cancelled("plate depth");
 
+    // Silhouette pixels between two surfaces are found first: they are small
+    // islands too, but not speckles.
+    const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity);
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
-        out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px);
+        out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed);
     }
     if (Status st = fill_holes(out.depth, W, H, make_guide(plate), exec, out.stats.filled); !st)
         return st.prefix("plate depth");
-    if (options.split_mixed)
-        out.stats.mixed = split_mixed(out.depth, W, H, options.continuity, options.mixed_step, out.fg_depth,
-                                      out.fg_coverage);
+    if (options.split_mixed) {
+        const RgbaIndices ix = find_rgba(plate);
+        const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
+                               ix.b >= 0 ? plate.plane(ix.b) : nullptr};
+        out.mixed = split_mixed(out.depth, mixed, W, H, options.continuity, options.mixed_step, rgb);
+        out.stats.mixed = out.mixed.size();
+    }
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;
     return out;
+}
+
+const MixedPixel* PlateDepth::mixed_at(std::size_t index) const {
+    auto it = std::lower_bound(mixed.begin(), mixed.end(), index,
+                               [](const MixedPixel& m, std::size_t i) { return m.index < i; });
+    return it != mixed.end() && it->index == index ? &*it : nullptr;
 }
 
 }  // namespace gdof

@@ -19,19 +19,25 @@ struct Guide {
 };
 Guide make_guide(const Image& plate);
 
-// Islands of at most `max_px` pixels that no neighbour continues become NaN;
-// returns how many pixels.
-std::size_t remove_speckles(std::vector<float>& depth, int width, int height, double continuity, int max_px);
+// Pixels sandwiched between a nearer and a farther neighbour (step larger
+// than `continuity`): the candidates for mixed silhouette pixels (1), which
+// speckle removal leaves alone.
+std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int width, int height, double continuity);
+
+// Islands of at most `max_px` pixels that no neighbour continues become NaN
+// (pixels with keep[i] != 0 never); returns how many pixels.
+std::size_t remove_speckles(std::vector<float>& depth, int width, int height, double continuity, int max_px,
+                            const std::vector<unsigned char>& keep);
 
 // Fills every NaN from its surroundings (see plate.h); returns how many. Needs
 // at least one non-NaN pixel.
 Status fill_holes(std::vector<float>& depth, int width, int height, const Guide& guide, const Exec& exec,
                   std::size_t& filled);
 
-// Splits mixed silhouette pixels (plate.h step 4): `depth` keeps the
-// background's depth there; fg_depth / fg_coverage are filled (sized on the
-// first mixed pixel). Returns how many.
-std::size_t split_mixed(std::vector<float>& depth, int width, int height, double continuity, double mixed_step,
-                        std::vector<float>& fg_depth, std::vector<float>& fg_coverage);
+// Splits the mixed silhouette pixels among the candidates (plate.h step 4):
+// `depth` takes the background's depth there. `rgb`: the plate's
+// premultiplied R, G, B planes (null: the parts keep the pixel's colour).
+std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector<unsigned char>& candidate, int width,
+                                    int height, double continuity, double mixed_step, const float* const rgb[3]);
 
 }  // namespace gdof::plate_detail

@@ -45,7 +45,8 @@ bool continuous(float a, float b, double ratio) {
 
 }  // namespace
 
-std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px) {
+std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px,
+                            const std::vector<unsigned char>& keep) {
     const std::size_t n = depth.size();
     UnionFind uf(n);
     for (int y = 0; y < H; ++y)
@@ -84,7 +85,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
         }
     std::size_t removed = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        if (std::isnan(depth[i])) continue;
+        if (std::isnan(depth[i]) || keep[i]) continue;
         const int r = uf.find(int(i));
         if (uf.size[std::size_t(r)] > max_px) continue;
         const int all = all_nb[std::size_t(r)], big = big_nb[std::size_t(r)];

@@ -172,14 +172,20 @@ TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
         const double b = beta(y);
         if (b < 0.15 || b > 0.85) continue;  // within 5% of a side: continuous with it
         const std::size_t i = std::size_t(y) * kW + 80;
-        EXPECT_NEAR(pd->fg_coverage[i], b, 0.02) << y;
-        EXPECT_FLOAT_EQ(pd->fg_depth[i], 2.0f);
+        const MixedPixel* m = pd->mixed_at(i);
+        ASSERT_NE(m, nullptr) << y;
+        EXPECT_NEAR(m->fg_share, b, 0.02) << y;
+        EXPECT_FLOAT_EQ(m->fg_depth, 2.0f);
         EXPECT_FLOAT_EQ(pd->depth[i], 6.0f);
+        // The parts' colours composite back to the pixel, each near its surface's.
+        const float pix[3] = {img.at(0, 80, y), img.at(1, 80, y), img.at(2, 80, y)};
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(m->fg_share * m->fg_rgb[c] + (1 - m->fg_share) * m->bg_rgb[c], pix[c], 1e-5) << y;
         ++checked;
     }
     EXPECT_GT(checked, 80u);
     for (int y = 0; y < kH; ++y)
-        for (int x : {78, 79, 81, 82}) EXPECT_TRUE(std::isnan(pd->fg_depth[std::size_t(y) * kW + std::size_t(x)]));
+        for (int x : {78, 79, 81, 82}) EXPECT_EQ(pd->mixed_at(std::size_t(y) * kW + std::size_t(x)), nullptr);
     // A continuous slope has no mixed pixel.
     Image ramp = plate([](int x, int) { return float(2.0 + 0.05 * x); });
     auto pr = prepare_plate_depth(ramp, 4, DepthDecode{}, flags_camera());
