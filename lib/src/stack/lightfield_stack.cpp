@@ -3,22 +3,17 @@
 // light field's geometry.
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/format_number.h"
 #include "gdof/lightfield.h"
 
 namespace gdof {
 
 namespace {
 
-std::string num(double v) {
-    std::ostringstream os;
-    os.precision(9);
-    os << v;
-    return os.str();
-}
+std::string num(double v) { return format_number(v, 9); }
 
 }  // namespace
 
