@@ -69,8 +69,8 @@ Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& s
     return stack;
 }
 
-Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const Exec& exec,
-                                     const StackSink& sink) {
+Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const StackSink& sink,
+                                     const Exec& exec) {
     auto planned = plan_stack(lf, spec);
     if (!planned) return planned.status();
     ExtractedStack out;
