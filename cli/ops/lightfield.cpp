@@ -84,7 +84,7 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     const auto t0 = std::chrono::steady_clock::now();
     {
         s.progress.begin("lightfield " + label(0));
-        result = extract_stack(lf, spec, s.exec, sink);
+        result = extract_stack(lf, spec, sink, s.exec);
         s.progress.end();
     }
     const double t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -21,6 +21,19 @@ set(GDOF_OFX_SYS_SHA256 0cef84cae208784242a60ce89d2b99cdc4a204eccd8e4ddddaa614fc
 set(GDOF_OFX_SYS_URL "https://static.crates.io/crates/ofx_sys/ofx_sys-${GDOF_OFX_SYS_VERSION}.crate" CACHE STRING
     "Where the ofx_sys .crate is downloaded from when cargo is absent or fails (a mirror; the SHA-256 is checked)")
 
+# Sets ${out_var} to the first folder matching the globs that holds
+# ofxImageEffect.h, or to "" if none does.
+function(_gdof_ofx_headers_in out_var)
+  file(GLOB found LIST_DIRECTORIES true ${ARGN})
+  foreach(dir IN LISTS found)
+    if(EXISTS "${dir}/ofxImageEffect.h")
+      set(${out_var} "${dir}" PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  set(${out_var} "" PARENT_SCOPE)
+endfunction()
+
 # Sets ${out_var} to the folder with ofxImageEffect.h, or fails the configure.
 function(gdof_ofx_headers out_var)
   if(OFX_INCLUDE_DIR)
@@ -35,13 +48,11 @@ function(gdof_ofx_headers out_var)
   set(work "${CMAKE_BINARY_DIR}/_deps/ofx_sys")
   set(rel "ofx_sys-${GDOF_OFX_SYS_VERSION}/native/openfx/include")
   # Already obtained by an earlier configure (either way)?
-  file(GLOB found LIST_DIRECTORIES true "${work}/cargo_home/registry/src/*/${rel}" "${work}/crate/${rel}")
-  foreach(dir IN LISTS found)
-    if(EXISTS "${dir}/ofxImageEffect.h")
-      set(${out_var} "${dir}" PARENT_SCOPE)
-      return()
-    endif()
-  endforeach()
+  _gdof_ofx_headers_in(found "${work}/cargo_home/registry/src/*/${rel}" "${work}/crate/${rel}")
+  if(found)
+    set(${out_var} "${found}" PARENT_SCOPE)
+    return()
+  endif()
 
   set(why "")
   # 1. cargo fetch with a private CARGO_HOME.
@@ -67,13 +78,11 @@ function(gdof_ofx_headers out_var)
               CARGO_NET_RETRY=3 CARGO_TERM_COLOR=never
               "${GDOF_CARGO}" fetch --manifest-path "${work}/manifest/Cargo.toml" ${target}
       RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
-    file(GLOB found LIST_DIRECTORIES true "${work}/cargo_home/registry/src/*/${rel}")
-    foreach(dir IN LISTS found)
-      if(EXISTS "${dir}/ofxImageEffect.h")
-        set(${out_var} "${dir}" PARENT_SCOPE)
-        return()
-      endif()
-    endforeach()
+    _gdof_ofx_headers_in(found "${work}/cargo_home/registry/src/*/${rel}")
+    if(found)
+      set(${out_var} "${found}" PARENT_SCOPE)
+      return()
+    endif()
     string(STRIP "${err}" err)
     set(why "cargo fetch failed (exit ${rc}): ${err}; ")
     message(STATUS "gdof OFX: ${why}trying a plain download")

@@ -19,12 +19,6 @@ const std::vector<std::string> kEncodings = {"metric", "inverse", "scaled", "nea
 const std::vector<std::string> kSolvers = {"adi", "explicit", "auto"};
 const std::vector<std::string> kAnalyses = {"frame", "region"};
 
-std::string option(const ParamReader& r, const char* name, const std::vector<std::string>& options) {
-    const int i = r.choice(name);
-    if (i < 0 || i >= int(options.size())) fail(std::string("parameter '") + name + "': option " + std::to_string(i) + " out of range");
-    return options[std::size_t(i)];
-}
-
 // Index of `value` in `options` (a descriptor's default).
 int option_index(const std::vector<std::string>& options, const std::string& value) {
     const auto it = std::find(options.begin(), options.end(), value);
@@ -112,7 +106,7 @@ void describe_defocus_params(ParamDefiner& d) {
 
 DefocusParams read_defocus_params(const ParamReader& r) {
     DefocusParams p;
-    p.kind = option(r, "kind", kKinds);
+    p.kind = r.option("kind", kKinds);
     p.max_radius = r.number("max_radius");
     p.focal_length_mm = r.number("focal_length_mm");
     p.sensor_width_mm = r.number("sensor_width_mm");
@@ -125,9 +119,9 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     for (int i = 0; i < n; ++i) p.depths.push_back(r.number(depth_name(i).c_str()));
     p.max_blur = r.number("max_blur");
     p.slope = r.number("slope");
-    p.interpolation = option(r, "interpolation", kInterpolations);
-    p.shape = option(r, "shape", kShapes);
-    p.mode = option(r, "mode", kModes);
+    p.interpolation = r.option("interpolation", kInterpolations);
+    p.shape = r.option("shape", kShapes);
+    p.mode = r.option("mode", kModes);
     p.center = r.point3("center");
     p.radius = r.number("radius");
     p.size = r.point3("size");
@@ -135,19 +129,19 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.thickness = r.number("thickness");
     p.blur = r.number("blur");
     p.falloff = r.number("falloff");
-    p.map_channel = option(r, "map_channel", kChannels);
+    p.map_channel = r.option("map_channel", kChannels);
     p.map_scale = r.number("map_scale");
-    p.depth_pass = option(r, "depth_pass", kPasses);
-    p.depth_channel = option(r, "depth_channel", kChannels);
-    p.depth_encoding = option(r, "depth_encoding", kEncodings);
+    p.depth_pass = r.option("depth_pass", kPasses);
+    p.depth_channel = r.option("depth_channel", kChannels);
+    p.depth_encoding = r.option("depth_encoding", kEncodings);
     p.depth_scale = r.number("depth_scale");
     p.depth_near = r.number("depth_near");
     p.depth_far = r.number("depth_far");
-    p.solver = option(r, "solver", kSolvers);
+    p.solver = r.option("solver", kSolvers);
     p.adi_steps = r.integer("adi_steps");
     p.layers = r.integer("layers");
     p.cut_by_blur = r.boolean("cut_by_blur");
-    p.analysis = option(r, "analysis", kAnalyses);
+    p.analysis = r.option("analysis", kAnalyses);
     return p;
 }
 

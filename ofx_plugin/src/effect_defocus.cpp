@@ -18,25 +18,6 @@ const char* const kBlurMap = "BlurMap";
 const char* const kMask = "Mask";
 const char* const kOutput = kOfxImageEffectOutputClipName;
 
-Props define_clip(OfxImageEffectHandle desc, const char* name, const char* label,
-                  std::initializer_list<const char*> components, bool optional) {
-    OfxPropertySetHandle h = nullptr;
-    check(suites().effect->clipDefine(desc, name, &h), std::string("defining clip '") + name + "'");
-    Props p(h);
-    p.set(kOfxPropLabel, label);
-    p.set_strings(kOfxImageEffectPropSupportedComponents, components);
-    p.set(kOfxImageEffectPropSupportsTiles, 1);
-    p.set(kOfxImageEffectPropTemporalClipAccess, 0);
-    p.set(kOfxImageClipPropOptional, optional ? 1 : 0);
-    return p;
-}
-
-int host_threads() {
-    unsigned n = 0;
-    if (suites().thread && suites().thread->multiThreadNumCPUs(&n) == kOfxStatOK) return int(n);
-    return 0;
-}
-
 class DefocusEffect final : public Effect {
 public:
     const char* label() const override { return "gdof Defocus"; }
@@ -148,9 +129,7 @@ public:
         if (!settings) fail(settings.message());
         settings->roi = window;
 
-        Exec exec;
-        exec.nthreads = host_threads();
-        exec.cancelled = [fx] { return suites().effect->abort(fx) != 0; };
+        const Exec exec = render_exec(fx);
         ImageSet in;
         in.parts.emplace_back(std::move(img));
         auto result = defocus(in, *field, *camera, *settings, nullptr, exec);

@@ -30,27 +30,6 @@ const char* const kNear = "Near";
 const char* const kFar = "Far";
 const char* const kOutput = kOfxImageEffectOutputClipName;
 
-Props define_clip(OfxImageEffectHandle desc, const char* name, const char* label,
-                  std::initializer_list<const char*> components, bool optional, bool temporal) {
-    OfxPropertySetHandle h = nullptr;
-    check(suites().effect->clipDefine(desc, name, &h), std::string("defining clip '") + name + "'");
-    Props p(h);
-    p.set(kOfxPropLabel, label);
-    p.set_strings(kOfxImageEffectPropSupportedComponents, components);
-    p.set(kOfxImageEffectPropSupportsTiles, 1);
-    p.set(kOfxImageEffectPropTemporalClipAccess, temporal ? 1 : 0);
-    p.set(kOfxImageClipPropOptional, optional ? 1 : 0);
-    return p;
-}
-
-Exec render_exec(OfxImageEffectHandle fx) {
-    Exec e;
-    unsigned n = 0;
-    if (suites().thread && suites().thread->multiThreadNumCPUs(&n) == kOfxStatOK) e.nthreads = int(n);
-    e.cancelled = [fx] { return suites().effect->abort(fx) != 0; };
-    return e;
-}
-
 // A files stack, opened.
 struct FileStack {
     FocalStack stack;
@@ -95,8 +74,8 @@ public:
         define_clip(desc, kSource, "Source", {kOfxImageComponentRGBA, kOfxImageComponentRGB},
                     context == kOfxImageEffectContextGeneral, true);
         for (const char* c : {kNear, kFar})
-            define_clip(desc, c, c, {kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha}, true, false);
-        define_clip(desc, kOutput, "Output", {kOfxImageComponentRGBA, kOfxImageComponentRGB}, false, false);
+            define_clip(desc, c, c, {kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha}, true);
+        define_clip(desc, kOutput, "Output", {kOfxImageComponentRGBA, kOfxImageComponentRGB}, false);
         ParamDefiner d(desc);
         describe_focal_stack_params(d);
     }

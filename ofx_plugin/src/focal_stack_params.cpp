@@ -1,6 +1,7 @@
 #include "focal_stack_params.h"
 
-#include <sstream>
+#include <charconv>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
@@ -17,82 +18,35 @@ const std::vector<std::string> kFocusSources = {"surfaces", "surfaces_file", "ma
 const std::vector<std::string> kGrids = {"1x1", "2x2", "3x3", "4x4"};
 const std::vector<std::string> kChannels = {"R", "G", "B", "A"};
 
-std::string option(const ParamReader& r, const char* name, const std::vector<std::string>& options) {
-    const int i = r.choice(name);
-    if (i < 0 || i >= int(options.size())) fail(std::string("parameter '") + name + "': option " + std::to_string(i) + " out of range");
-    return options[std::size_t(i)];
-}
-
 std::string cp_name(const char* which, int row, int col) {
     return std::string(which) + "_" + std::to_string(row) + std::to_string(col);
 }
 
-std::string trim(const std::string& s) {
-    const auto b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
-    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> cells(const std::string& line) {
-    std::vector<std::string> out;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) out.push_back(trim(c));
-    if (!line.empty() && line.back() == ',') out.push_back("");
-    return out;
-}
-
-// The lens table as manifest references ("file" is "frame N").
+// The lens table as manifest references ("file" is "frame N"), read as the
+// CLI reads a manifest's table.
 Result<json> table_references(const std::string& table, std::vector<int>& frames) {
-    static const std::vector<std::string> known = {"frame", "focus_distance", "f_number", "focal_length_mm",
-                                                   "sensor_width_mm", "near", "far"};
-    std::stringstream in(table);
-    std::string line;
-    std::vector<std::string> header;
+    const std::string source = "parameter 'lens_table'";
+    const auto rows = io::read_lens_table(table, source, io::LensTableKey::Frame);
+    if (!rows) return rows.status();
     json refs = json::array();
-    for (int lineno = 1; std::getline(in, line); ++lineno) {
-        const std::string t = trim(line);
-        if (t.empty() || t[0] == '#') continue;
-        const std::vector<std::string> c = cells(t);
-        const std::string where = "parameter 'lens_table' line " + std::to_string(lineno);
-        if (header.empty()) {
-            for (const std::string& h : c)
-                if (std::find(known.begin(), known.end(), h) == known.end())
-                    return Status::error(where + ": unknown column '" + h +
-                                         "' (known: frame, focus_distance, f_number, focal_length_mm, sensor_width_mm, near, far)");
-            if (std::find(c.begin(), c.end(), "frame") == c.end())
-                return Status::error(where + ": the header needs a 'frame' column");
-            header = c;
-            continue;
-        }
-        if (c.size() != header.size())
-            return Status::error(where + ": " + std::to_string(c.size()) + " cells, the header has " + std::to_string(header.size()));
+    for (const io::LensTableRow& row : *rows) {
         json r;
-        for (std::size_t k = 0; k < c.size(); ++k) {
-            const std::string& h = header[k];
-            if (h == "far" && (c[k] == "inf" || c[k] == "infinity")) {
-                r["far"] = "inf";
-                continue;
-            }
-            double v = 0;
-            std::size_t used = 0;
-            try {
-                v = std::stod(c[k], &used);
-            } catch (...) {
-                used = 0;
-            }
-            if (used == 0 || used != c[k].size())
-                return Status::error(where + " column '" + h + "': not a number: '" + c[k] + "'");
-            if (h == "frame") {
-                if (v != double(int(v))) return Status::error(where + " column 'frame': not a whole number: '" + c[k] + "'");
-                frames.push_back(int(v));
-                r["file"] = "frame " + std::to_string(int(v));
-            } else {
-                r[h] = v;
-            }
+        const double frame = *row.frame;  // the Frame key: every row has one
+        if (frame != double(int(frame))) {
+            char shortest[32];
+            const auto printed = std::to_chars(shortest, shortest + sizeof shortest, frame);
+            return Status::error(source + " line " + std::to_string(row.line) + " column 'frame': not a whole number: " +
+                                 std::string(shortest, printed.ptr));
+        }
+        frames.push_back(int(frame));
+        r["file"] = "frame " + std::to_string(int(frame));
+        for (const auto& [column, v] : row.values) {
+            if (std::isinf(v)) r[column] = "inf";
+            else r[column] = v;
         }
         refs.push_back(r);
     }
-    if (refs.empty()) return Status::error("parameter 'lens_table': no rows (a header such as 'frame,focus_distance,f_number' and one row per frame)");
+    if (refs.empty()) return Status::error(source + ": no rows (a header such as 'frame,focus_distance,f_number' and one row per frame)");
     return refs;
 }
 
@@ -140,7 +94,7 @@ void describe_focal_stack_params(ParamDefiner& d) {
 
 FocalStackParams read_focal_stack_params(const ParamReader& r) {
     FocalStackParams p;
-    p.stack_source = option(r, "stack_source", kStackSources);
+    p.stack_source = r.option("stack_source", kStackSources);
     p.manifest = r.text("manifest");
     p.lens_table = r.text("lens_table");
     p.first_frame = r.integer("first_frame");
@@ -149,13 +103,13 @@ FocalStackParams read_focal_stack_params(const ParamReader& r) {
     p.sensor_width_mm = r.number("sensor_width_mm");
     p.scene_unit_mm = r.number("scene_unit_mm");
     p.soft = r.integer("soft");
-    p.focus_source = option(r, "focus_source", kFocusSources);
+    p.focus_source = r.option("focus_source", kFocusSources);
     p.surfaces = r.text("surfaces");
     p.grid = r.choice("grid") + 1;
     if (p.grid < 1 || p.grid > kMaxGrid) fail("parameter 'grid': option out of range");
     p.interpolate = r.boolean("interpolate");
     p.far_infinite = r.boolean("far_infinite");
-    p.map_channel = option(r, "map_channel", kChannels);
+    p.map_channel = r.option("map_channel", kChannels);
     for (int row = 0; row < p.grid; ++row)
         for (int col = 0; col < p.grid; ++col) {
             p.near.push_back(r.number(cp_name("near", row, col).c_str()));

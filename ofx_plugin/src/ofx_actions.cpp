@@ -107,6 +107,14 @@ void post_error(const void* handle, const std::string& message) {
 
 }  // namespace
 
+Exec render_exec(OfxImageEffectHandle instance) {
+    Exec e;
+    unsigned n = 0;
+    if (suites().thread && suites().thread->multiThreadNumCPUs(&n) == kOfxStatOK) e.nthreads = int(n);
+    e.cancelled = [instance] { return suites().effect->abort(instance) != 0; };
+    return e;
+}
+
 OfxStatus dispatch(Effect& e, const char* action, const void* handle, OfxPropertySetHandle in, OfxPropertySetHandle out) {
     if (!action) return kOfxStatErrBadHandle;
     if (!suites().prop || !suites().param || !suites().effect)

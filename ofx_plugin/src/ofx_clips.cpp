@@ -18,6 +18,19 @@ std::string short_name(const std::string& ofx_name) {
 
 }  // namespace
 
+Props define_clip(OfxImageEffectHandle descriptor, const char* name, const char* label,
+                  std::initializer_list<const char*> components, bool optional, bool temporal) {
+    OfxPropertySetHandle h = nullptr;
+    check(fx().clipDefine(descriptor, name, &h), std::string("defining clip '") + name + "'");
+    Props p(h);
+    p.set(kOfxPropLabel, label);
+    p.set_strings(kOfxImageEffectPropSupportedComponents, components);
+    p.set(kOfxImageEffectPropSupportsTiles, 1);
+    p.set(kOfxImageEffectPropTemporalClipAccess, temporal ? 1 : 0);
+    p.set(kOfxImageClipPropOptional, optional ? 1 : 0);
+    return p;
+}
+
 Clip::Clip(OfxImageEffectHandle effect, const char* name) : name_(name) {
     OfxPropertySetHandle ph = nullptr;
     check(fx().clipGetHandle(effect, name, &clip_, &ph), std::string("clip '") + name + "'");

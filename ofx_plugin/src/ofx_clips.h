@@ -17,6 +17,11 @@ namespace gdof::ofx {
 
 struct PixelFrame;
 
+// Defines a clip in describeInContext: label, the components it takes, tiles
+// supported; `temporal`: the effect reads other frames of it.
+Props define_clip(OfxImageEffectHandle descriptor, const char* name, const char* label,
+                  std::initializer_list<const char*> components, bool optional, bool temporal = false);
+
 class Clip {
 public:
     Clip(OfxImageEffectHandle effect, const char* name);

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "gdof/exec.h"
 #include "ofx_properties.h"
 
 namespace gdof::ofx {
@@ -15,6 +16,10 @@ struct RenderArgs {
     OfxPointD scale{1, 1};
     OfxRectI window{0, 0, 0, 0};  // OFX pixel coordinates at `scale`
 };
+
+// How a render runs library code: the host's CPU count (multithread suite),
+// cancelled when the host aborts the render.
+Exec render_exec(OfxImageEffectHandle instance);
 
 class Effect {
 public:

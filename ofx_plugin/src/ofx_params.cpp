@@ -117,6 +117,12 @@ bool ParamReader::boolean(const char* name) const { return integer(name) != 0; }
 
 int ParamReader::choice(const char* name) const { return integer(name); }
 
+std::string ParamReader::option(const char* name, const std::vector<std::string>& options) const {
+    const int i = choice(name);
+    if (i < 0 || i >= int(options.size())) fail(std::string("parameter '") + name + "': option " + std::to_string(i) + " out of range");
+    return options[std::size_t(i)];
+}
+
 std::array<double, 3> ParamReader::point3(const char* name) const {
     std::array<double, 3> v{};
     check(pm().paramGetValueAtTime(handle(name), time_, &v[0], &v[1], &v[2]),

@@ -44,6 +44,8 @@ public:
     int integer(const char* name) const;
     bool boolean(const char* name) const;
     int choice(const char* name) const;  // option index
+    // The chosen option of a choice parameter defined with `options`.
+    std::string option(const char* name, const std::vector<std::string>& options) const;
     std::array<double, 3> point3(const char* name) const;
     std::string text(const char* name) const;
     double time() const { return time_; }

@@ -332,6 +332,28 @@ TEST(ofx_focal_stack, BadLensTableIsAPersistentErrorNamingTheColumn) {
     EXPECT_TRUE(contains(f.s.fx->persistent_message(), "'focus'")) << f.s.fx->persistent_message();
 }
 
+TEST(ofx_focal_stack, LensTableIsReadAsTheCliReadsAManifestTable) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    // far "inf", the one spelling of infinity: a one-reference stack, every pixel from frame 1.
+    f.s.fx->set_string("lens_table", "frame,focus_distance,f_number,far\n1,1,2,inf\n");
+    const Rendered r = f.s.fx->render(1, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    for (int oy = 0; oy < H; oy += 7)
+        for (int x = 0; x < W; x += 5)
+            for (int c = 0; c < 4; ++c) ASSERT_EQ(r.at(x, oy, c), ref_value(0, x, H - 1 - oy, c)) << x << "," << oy;
+
+    f.s.fx->set_string("lens_table", "frame,focus_distance,f_number,far\n1,1,2,infinity\n");
+    EXPECT_EQ(f.s.fx->render(1, kFull).status, kOfxStatFailed);
+    EXPECT_TRUE(contains(f.s.fx->persistent_message(), "parameter 'lens_table' line 2 column 'far': not a number: 'infinity'"))
+        << f.s.fx->persistent_message();
+
+    f.s.fx->set_string("lens_table", "frame,focus_distance,f_number\n1.5,1,2\n");
+    EXPECT_EQ(f.s.fx->render(1, kFull).status, kOfxStatFailed);
+    EXPECT_TRUE(contains(f.s.fx->persistent_message(), "parameter 'lens_table' line 2 column 'frame': not a whole number: 1.5"))
+        << f.s.fx->persistent_message();
+}
+
 TEST(ofx_focal_stack, MissingStackFrameIsNamed) {
     Fixture f;
     ASSERT_TRUE(f.s.ok());

@@ -1,4 +1,4 @@
-// Helpers for the numerical stress suite (tests/unit/test_stress_*.cpp):
+// Helpers for the numerical stress suite (tests/unit/<capability>/test_stress_*.cpp):
 // a seeded random source whose seed is printed with every failure, extreme
 // value generators, and checks for non-finite output.
 //

@@ -35,6 +35,20 @@ Roi intersect(const Roi& a, const Roi& b);  // empty Roi if disjoint
 Roi unite(const Roi& a, const Roi& b);      // bounding box; an empty side is ignored
 std::string to_string(const Roi& r);        // "[x0,x1)x[y0,y1)"
 
+// A window cut into square tiles of `size` pixels (size >= 1), numbered
+// row-major from the window's top-left; the last column and row are clipped
+// to the window. The renderer and the compositor share it, so a tile index
+// means the same pixels in both.
+struct TileGrid {
+    Roi window;
+    int size = 1;
+    int nx = 0, ny = 0;  // tiles per row, per column (0 for an empty window)
+
+    TileGrid(const Roi& window, int size);
+    long count() const { return long(nx) * long(ny); }
+    Roi tile(long index) const;  // 0 <= index < count()
+};
+
 // Storage type of a channel in its file. Half and Float are processed as
 // float; UInt (ids) is kept exactly as uint32 and never blurred.
 enum class PixelType : std::uint8_t { Half, Float, UInt };

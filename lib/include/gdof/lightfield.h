@@ -134,7 +134,7 @@ struct ExtractedStack {
 // reference ("references[2].aperture_radius: ..."), duplicates are errors.
 Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& spec);
 // Plans and refocuses every reference. Progress is reported over the whole stack.
-Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const Exec& exec = {},
-                                     const StackSink& sink = {});
+Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const StackSink& sink = {},
+                                     const Exec& exec = {});
 
 }  // namespace gdof

@@ -71,6 +71,7 @@ public:
     T* operator->() { return &value(); }
     const T* operator->() const { return &value(); }
     T& operator*() { return value(); }
+    const T& operator*() const { return value(); }
     Status status() const { return is_ok() ? Status::ok() : std::get<Status>(v_); }
     const std::string& message() const {
         static const std::string empty;

@@ -23,7 +23,7 @@ using json_read::check_at_least;
 using json_read::check_above;
 using json_read::fail;
 using json_read::join;
-const auto& num_str = json_read::format_number;
+std::string num_str(double v) { return format_number(v); }
 
 // Optional number with a default.
 double number_or(const Object& o, const std::string& k, double def) {

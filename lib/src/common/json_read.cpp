@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace gdof::json_read {
@@ -21,12 +20,6 @@ void fail(const std::string& path, const Status& status) {
 std::string type_name(const json& j) {
     if (j.is_string()) return "string \"" + j.get<std::string>() + "\"";
     return j.type_name();
-}
-
-std::string format_number(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
 }
 
 std::string join(const std::vector<std::string>& items) {

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/format_number.h"
 #include "gdof/math.h"
 #include "gdof/status.h"
 
@@ -45,7 +46,7 @@ struct Error {
 // Message pieces: "string \"abc\"", "number", "array" ...; numbers with 10
 // significant digits ("inf", "nan" for the non-finite); "a, b, c".
 std::string type_name(const json& j);
-std::string format_number(double v);
+using ::gdof::format_number;  // common/format_number.h
 std::string join(const std::vector<std::string>& items);
 
 // Paths: key_path("references[2]", "f_number") = "references[2].f_number",

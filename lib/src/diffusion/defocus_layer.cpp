@@ -2,8 +2,8 @@
 // radius at each pixel's world position and the checks on those radii.
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
+#include "common/format_number.h"
 #include "diffusion/defocus_internal.h"
 
 namespace gdof::defocus_detail {
@@ -12,12 +12,7 @@ namespace {
 
 std::string pixel_str(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
 
-std::string num(double v) {
-    std::ostringstream o;
-    o.precision(6);
-    o << v;
-    return o.str();
-}
+std::string num(double v) { return format_number(v, 6); }
 
 }  // namespace
 

@@ -21,21 +21,18 @@ static bool ends_with_channel(const std::string& name, std::string_view base) {
            name[name.size() - base.size() - 1] == '.';
 }
 
-int DeepImage::z_channel() const {
-    int i = channel_index("Z");
+// The channel `base` ("Z"), else the first "<layer>.<base>"; -1 if neither.
+static int base_channel(const DeepImage& d, std::string_view base) {
+    const int i = d.channel_index(base);
     if (i >= 0) return i;
-    for (std::size_t c = 0; c < channels_.size(); ++c)
-        if (ends_with_channel(channels_[c].name, "Z")) return int(c);
+    for (int c = 0; c < d.nchannels(); ++c)
+        if (ends_with_channel(d.channel(c).name, base)) return c;
     return -1;
 }
 
-int DeepImage::zback_channel() const {
-    int i = channel_index("ZBack");
-    if (i >= 0) return i;
-    for (std::size_t c = 0; c < channels_.size(); ++c)
-        if (ends_with_channel(channels_[c].name, "ZBack")) return int(c);
-    return -1;
-}
+int DeepImage::z_channel() const { return base_channel(*this, "Z"); }
+
+int DeepImage::zback_channel() const { return base_channel(*this, "ZBack"); }
 
 Status DeepImage::set_channel_type(int c, PixelType t) {
     auto& ch = channels_[std::size_t(c)];

@@ -18,6 +18,14 @@ Roi unite(const Roi& a, const Roi& b) {
     return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
 }
 
+TileGrid::TileGrid(const Roi& w, int tile_size)
+    : window(w), size(tile_size), nx((w.width() + tile_size - 1) / tile_size), ny((w.height() + tile_size - 1) / tile_size) {}
+
+Roi TileGrid::tile(long index) const {
+    const int x0 = window.x0 + int(index % nx) * size, y0 = window.y0 + int(index / nx) * size;
+    return {x0, y0, std::min(x0 + size, window.x1), std::min(y0 + size, window.y1)};
+}
+
 std::string to_string(const Roi& r) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "[%d,%d)x[%d,%d)", r.x0, r.x1, r.y0, r.y1);

@@ -236,51 +236,70 @@ std::vector<Layer> blank_layers(const DeepImage& deep, const LayerSplit& split, 
     return layers;
 }
 
-// Composites every pixel's samples, front to back, into the layers they
-// belong to. Parallel over rows; false if cancelled.
-bool composite_samples(const DeepImage& deep, const DeepChannels& ch, const SampleLayers& sl, std::vector<Layer>& layers,
-                       const Exec& exec) {
+// A deep image's colour, alpha and depth samples (alpha 1 without an A channel).
+struct SamplePlanes {
+    const float *z, *r, *g, *b, *a;
+    SamplePlanes(const DeepImage& deep, const DeepChannels& ch)
+        : z(deep.samples(ch.z)), r(deep.samples(ch.r)), g(deep.samples(ch.g)), b(deep.samples(ch.b)),
+          a(ch.a >= 0 ? deep.samples(ch.a) : nullptr) {}
+    double alpha(std::size_t k) const { return a ? a[k] : 1.0; }
+};
+
+// pixel(x, y, order) for every pixel of the data window with samples, `order`
+// its sample indices front to back. Parallel over rows; false if cancelled.
+template <class PixelFn>
+bool for_each_sorted_pixel(const DeepImage& deep, const float* z, const Exec& exec, PixelFn pixel) {
     const Roi win = deep.data_window();
-    const float* z = deep.samples(ch.z);
-    const float* sr = deep.samples(ch.r);
-    const float* sg = deep.samples(ch.g);
-    const float* sb = deep.samples(ch.b);
-    const float* sa = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    const float* sp[3] = {ch.p ? deep.samples((*ch.p)[0]) : nullptr, ch.p ? deep.samples((*ch.p)[1]) : nullptr,
-                          ch.p ? deep.samples((*ch.p)[2]) : nullptr};
     return parallel_for(exec, win.height(), [&](long r0, long r1) {
         std::vector<std::size_t> order;
-        std::vector<std::pair<int, Over>> acc;  // touched layers of the pixel
         for (long row = r0; row < r1; ++row) {
             const int y = win.y0 + int(row);
             for (int x = win.x0; x < win.x1; ++x) {
                 const std::size_t p = deep.pixel_index(x, y);
                 if (deep.sample_count(p) == 0) continue;
                 sorted_samples(deep, z, p, order);
-                acc.clear();
-                for (std::size_t k : order) {
-                    const int l = sl.layer_of[k];
-                    auto it = std::find_if(acc.begin(), acc.end(), [l](const auto& e) { return e.first == l; });
-                    if (it == acc.end()) {
-                        acc.emplace_back(l, Over{});
-                        it = acc.end() - 1;
-                    }
-                    std::array<double, 3> pv{};
-                    if (ch.p) pv = {sp[0][k], sp[1][k], sp[2][k]};
-                    it->second.add(sr[k], sg[k], sb[k], sa ? sa[k] : 1.0, z[k], ch.p ? &pv : nullptr);
-                }
-                for (const auto& [l, o] : acc) {
-                    Image& img = layers[std::size_t(l)].image;
-                    const std::size_t off = img.offset(x, y);
-                    img.plane(0)[off] = float(o.r);
-                    img.plane(1)[off] = float(o.g);
-                    img.plane(2)[off] = float(o.b);
-                    img.plane(3)[off] = float(o.a);
-                    img.plane(4)[off] = float(o.mean_z());
-                    if (ch.p && o.wsum > 0)
-                        for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = float(o.psum[std::size_t(c)] / o.wsum);
-                }
+                pixel(x, y, order);
             }
+        }
+    });
+}
+
+// R, G, B, A of a composited pixel, and `z` as its depth, at img's offset `off`.
+void store_over(Image& img, std::size_t off, const Over& o, double z) {
+    img.plane(0)[off] = float(o.r);
+    img.plane(1)[off] = float(o.g);
+    img.plane(2)[off] = float(o.b);
+    img.plane(3)[off] = float(o.a);
+    img.plane(4)[off] = float(z);
+}
+
+// Composites every pixel's samples, front to back, into the layers they
+// belong to. Parallel over rows; false if cancelled.
+bool composite_samples(const DeepImage& deep, const DeepChannels& ch, const SampleLayers& sl, std::vector<Layer>& layers,
+                       const Exec& exec) {
+    const SamplePlanes s(deep, ch);
+    const float* sp[3] = {ch.p ? deep.samples((*ch.p)[0]) : nullptr, ch.p ? deep.samples((*ch.p)[1]) : nullptr,
+                          ch.p ? deep.samples((*ch.p)[2]) : nullptr};
+    return for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        thread_local std::vector<std::pair<int, Over>> acc;  // touched layers of the pixel
+        acc.clear();
+        for (std::size_t k : order) {
+            const int l = sl.layer_of[k];
+            auto it = std::find_if(acc.begin(), acc.end(), [l](const auto& e) { return e.first == l; });
+            if (it == acc.end()) {
+                acc.emplace_back(l, Over{});
+                it = acc.end() - 1;
+            }
+            std::array<double, 3> pv{};
+            if (ch.p) pv = {sp[0][k], sp[1][k], sp[2][k]};
+            it->second.add(s.r[k], s.g[k], s.b[k], s.alpha(k), s.z[k], ch.p ? &pv : nullptr);
+        }
+        for (const auto& [l, o] : acc) {
+            Image& img = layers[std::size_t(l)].image;
+            const std::size_t off = img.offset(x, y);
+            store_over(img, off, o, o.mean_z());
+            if (ch.p && o.wsum > 0)
+                for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = float(o.psum[std::size_t(c)] / o.wsum);
         }
     });
 }
@@ -320,29 +339,11 @@ Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec) {
     out.name = deep.name;
     out.view = deep.view;
     std::fill_n(out.plane(4), out.npixels(), kNaN);
-    const float* z = deep.samples(ch.z);
-    const float* sr = deep.samples(ch.r);
-    const float* sg = deep.samples(ch.g);
-    const float* sb = deep.samples(ch.b);
-    const float* sa = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    const bool ok = parallel_for(exec, win.height(), [&](long r0, long r1) {
-        std::vector<std::size_t> order;
-        for (long row = r0; row < r1; ++row) {
-            const int y = win.y0 + int(row);
-            for (int x = win.x0; x < win.x1; ++x) {
-                const std::size_t p = deep.pixel_index(x, y);
-                if (deep.sample_count(p) == 0) continue;
-                sorted_samples(deep, z, p, order);
-                Over o;
-                for (std::size_t k : order) o.add(sr[k], sg[k], sb[k], sa ? sa[k] : 1.0, z[k], nullptr);
-                const std::size_t off = out.offset(x, y);
-                out.plane(0)[off] = float(o.r);
-                out.plane(1)[off] = float(o.g);
-                out.plane(2)[off] = float(o.b);
-                out.plane(3)[off] = float(o.a);
-                out.plane(4)[off] = float(o.first_z);
-            }
-        }
+    const SamplePlanes s(deep, ch);
+    const bool ok = for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        Over o;
+        for (std::size_t k : order) o.add(s.r[k], s.g[k], s.b[k], s.alpha(k), s.z[k], nullptr);
+        store_over(out, out.offset(x, y), o, o.first_z);
     });
     if (!ok) return Status::cancelled("flatten");
     return out;

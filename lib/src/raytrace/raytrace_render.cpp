@@ -60,19 +60,6 @@ RenderOutputs make_outputs(const Scene& scene, const Camera& camera, const Rende
     return out;
 }
 
-// Square tiles over a window, row-major.
-struct TileGrid {
-    Roi window;
-    int size, nx, ny;
-    TileGrid(const Roi& w, int tile_size)
-        : window(w), size(tile_size), nx((w.width() + size - 1) / size), ny((w.height() + size - 1) / size) {}
-    long count() const { return long(nx) * ny; }
-    Roi tile(long i) const {
-        const int x0 = window.x0 + int(i % nx) * size, y0 = window.y0 + int(i / nx) * size;
-        return {x0, y0, std::min(x0 + size, window.x1), std::min(y0 + size, window.y1)};
-    }
-};
-
 Status render_tile(const rt::PixelContext& ctx, const Roi& tile, RenderOutputs& out, rt::PixelScratch& scratch,
                    rt::RenderCounters& counters) {
     for (int y = tile.y0; y < tile.y1; ++y)

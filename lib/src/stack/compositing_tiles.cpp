@@ -54,8 +54,8 @@ Status composite_tiles(const StackSelection& sel, StackPixels& pixels, const Com
         return v.base[std::ptrdiff_t(x) * v.xstride + std::ptrdiff_t(y) * v.ystride];
     };
 
-    const int tx = (W + T - 1) / T, ty = (H + T - 1) / T;
-    const long ntiles = long(tx) * long(ty);
+    const TileGrid grid({0, 0, W, H}, T);
+    const long ntiles = grid.count();
     std::vector<Status> errors(static_cast<std::size_t>(ntiles));
     std::atomic<long> reads{0}, done{0};
 
@@ -64,8 +64,7 @@ Status composite_tiles(const StackSelection& sel, StackPixels& pixels, const Com
         std::vector<char> in_tile(static_cast<std::size_t>(nrefs));
         for (long t = t0_; t < t1_; ++t) {
             if (exec.is_cancelled()) return;
-            const int bx = int(t % tx), by = int(t / tx);
-            const Roi tile{bx * T, by * T, std::min(W, (bx + 1) * T), std::min(H, (by + 1) * T)};
+            const Roi tile = grid.tile(t);
             const int tw = tile.width();
             // Which references this tile needs.
             std::fill(in_tile.begin(), in_tile.end(), 0);

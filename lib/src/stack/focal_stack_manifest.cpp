@@ -20,7 +20,7 @@ using json_read::Infinity;
 using json_read::Object;
 using json_read::Value;
 using json_read::fail;
-const auto& num = json_read::format_number;
+std::string num(double v) { return format_number(v); }
 
 int dimension(const Value& v) {
     const long long n = v.integer();

@@ -3,22 +3,17 @@
 // light field's geometry.
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/format_number.h"
 #include "gdof/lightfield.h"
 
 namespace gdof {
 
 namespace {
 
-std::string num(double v) {
-    std::ostringstream os;
-    os.precision(9);
-    os << v;
-    return os.str();
-}
+std::string num(double v) { return format_number(v, 9); }
 
 }  // namespace
 
@@ -74,8 +69,8 @@ Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& s
     return stack;
 }
 
-Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const Exec& exec,
-                                     const StackSink& sink) {
+Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const StackSink& sink,
+                                     const Exec& exec) {
     auto planned = plan_stack(lf, spec);
     if (!planned) return planned.status();
     ExtractedStack out;

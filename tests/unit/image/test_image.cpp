@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "gdof/deep.h"
 #include "gdof/image.h"
 #include "gdof/math.h"
@@ -13,6 +15,38 @@ TEST(Roi, IntersectUniteAndEmpty) {
     EXPECT_TRUE(intersect(a, Roi{50, 50, 60, 60}).empty());
     EXPECT_EQ(unite(Roi{}, b), b);
     EXPECT_EQ(a.npixels(), 200u);
+}
+
+TEST(TileGrid, CoversTheWindowOnceRowMajorWithClippedEdges) {
+    const Roi w{-7, 3, 13, 14};  // 20 x 11, negative origin
+    const TileGrid g(w, 8);
+    EXPECT_EQ(g.nx, 3);
+    EXPECT_EQ(g.ny, 2);
+    ASSERT_EQ(g.count(), 6);
+    EXPECT_EQ(g.tile(0), (Roi{-7, 3, 1, 11}));
+    EXPECT_EQ(g.tile(1), (Roi{1, 3, 9, 11}));     // row-major: the next tile is to the right
+    EXPECT_EQ(g.tile(2), (Roi{9, 3, 13, 11}));    // last column clipped
+    EXPECT_EQ(g.tile(5), (Roi{9, 11, 13, 14}));   // last row and column clipped
+    std::vector<int> hits(w.npixels(), 0);
+    for (long t = 0; t < g.count(); ++t) {
+        const Roi r = g.tile(t);
+        EXPECT_FALSE(r.empty()) << t;
+        EXPECT_EQ(intersect(r, w), r) << t;
+        for (int y = r.y0; y < r.y1; ++y)
+            for (int x = r.x0; x < r.x1; ++x) ++hits[std::size_t(y - w.y0) * std::size_t(w.width()) + std::size_t(x - w.x0)];
+    }
+    for (int h : hits) EXPECT_EQ(h, 1);
+}
+
+TEST(TileGrid, EmptyWindowHasNoTilesAndATileCanCoverAll) {
+    EXPECT_EQ(TileGrid(Roi{4, 4, 4, 9}, 16).count(), 0);
+    EXPECT_EQ(TileGrid(Roi{}, 1).count(), 0);
+    const TileGrid one(Roi{0, 0, 5, 3}, 64);
+    ASSERT_EQ(one.count(), 1);
+    EXPECT_EQ(one.tile(0), (Roi{0, 0, 5, 3}));
+    const TileGrid px(Roi{0, 0, 3, 2}, 1);
+    ASSERT_EQ(px.count(), 6);
+    EXPECT_EQ(px.tile(4), (Roi{1, 1, 2, 2}));
 }
 
 TEST(Image, NegativeOriginWindowsAndAddressing) {

@@ -142,7 +142,7 @@ TEST(lightfield, extract_stack_refocuses_every_reference_in_order) {
     Exec exec;
     exec.nthreads = 1;
     exec.progress = [&](double f) { progress.push_back(f); };
-    auto r = extract_stack(lf, spec, exec);
+    auto r = extract_stack(lf, spec, {}, exec);
     ASSERT_TRUE(r) << r.message();
     ASSERT_EQ(r->images.size(), 3u);
     for (std::size_t i = 0; i < 3; ++i) {
@@ -156,7 +156,7 @@ TEST(lightfield, extract_stack_refocuses_every_reference_in_order) {
 
     // With a sink, images go to it and are not kept.
     std::vector<std::size_t> seen;
-    auto s = extract_stack(lf, spec, {}, [&](std::size_t i, Image&&) {
+    auto s = extract_stack(lf, spec, [&](std::size_t i, Image&&) {
         seen.push_back(i);
         return i == 1 ? Status::error("disk full") : Status::ok();
     });

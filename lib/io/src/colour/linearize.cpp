@@ -20,27 +20,31 @@ Status linearize(Image& image, const std::string& source, const ColourConfig& co
     return Status::ok();
 }
 
-void premultiply(Image& image, int alpha) {
+namespace {
+
+// op(colour, alpha) on every float colour sample (not the alpha channel).
+template <class Op>
+void with_alpha(Image& image, int alpha, Op op) {
     const float* a = image.plane(alpha);
     if (!a) return;
     const std::size_t np = image.npixels();
     for (int c = 0; c < image.nchannels(); ++c) {
         float* p = image.plane(c);
         if (c == alpha || !p) continue;
-        for (std::size_t i = 0; i < np; ++i) p[i] *= a[i];
+        for (std::size_t i = 0; i < np; ++i) op(p[i], a[i]);
     }
 }
 
+}  // namespace
+
+void premultiply(Image& image, int alpha) {
+    with_alpha(image, alpha, [](float& v, float a) { v *= a; });
+}
+
 void unpremultiply(Image& image, int alpha) {
-    const float* a = image.plane(alpha);
-    if (!a) return;
-    const std::size_t np = image.npixels();
-    for (int c = 0; c < image.nchannels(); ++c) {
-        float* p = image.plane(c);
-        if (c == alpha || !p) continue;
-        for (std::size_t i = 0; i < np; ++i)
-            if (a[i] > 0.0f) p[i] /= a[i];
-    }
+    with_alpha(image, alpha, [](float& v, float a) {
+        if (a > 0.0f) v /= a;
+    });
 }
 
 }  // namespace gdof::io::detail

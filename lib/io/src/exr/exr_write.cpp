@@ -138,6 +138,20 @@ Imf::Header make_header(const PartView& pv, std::size_t index, bool multipart, c
     return h;
 }
 
+// Writes a part's whole frame buffer: all its tiles, or all its scanlines.
+template <class TiledPart, class ScanLinePart, class FrameBuffer>
+void write_part(Imf::MultiPartOutputFile& out, int index, const FrameBuffer& fb, const PartPlan& plan) {
+    if (plan.tiled) {
+        TiledPart part(out, index);
+        part.setFrameBuffer(fb);
+        part.writeTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1);
+    } else {
+        ScanLinePart part(out, index);
+        part.setFrameBuffer(fb);
+        part.writePixels(plan.dw.max.y - plan.dw.min.y + 1);
+    }
+}
+
 void write_flat(Imf::MultiPartOutputFile& out, int index, const Image& img, const PartPlan& plan) {
     Imf::FrameBuffer fb;
     const std::size_t nch = std::size_t(img.nchannels());
@@ -160,15 +174,7 @@ void write_flat(Imf::MultiPartOutputFile& out, int index, const Image& img, cons
         }
         fb.insert(ch.name, Imf::Slice::Make(t, p, plan.dw));
     }
-    if (plan.tiled) {
-        Imf::TiledOutputPart part(out, index);
-        part.setFrameBuffer(fb);
-        part.writeTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1);
-    } else {
-        Imf::OutputPart part(out, index);
-        part.setFrameBuffer(fb);
-        part.writePixels(plan.dw.max.y - plan.dw.min.y + 1);
-    }
+    write_part<Imf::TiledOutputPart, Imf::OutputPart>(out, index, fb, plan);
 }
 
 void write_deep(Imf::MultiPartOutputFile& out, int index, const DeepImage& img, const PartPlan& plan) {
@@ -200,15 +206,7 @@ void write_deep(Imf::MultiPartOutputFile& out, int index, const DeepImage& img, 
                   Imf::DeepSlice(t, const_cast<char*>(shifted_base(pc.data(), plan.dw, sizeof(char*), sizeof(char*) * w)),
                                  sizeof(char*), sizeof(char*) * w, es));
     }
-    if (plan.tiled) {
-        Imf::DeepTiledOutputPart part(out, index);
-        part.setFrameBuffer(fb);
-        part.writeTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1);
-    } else {
-        Imf::DeepScanLineOutputPart part(out, index);
-        part.setFrameBuffer(fb);
-        part.writePixels(plan.dw.max.y - plan.dw.min.y + 1);
-    }
+    write_part<Imf::DeepTiledOutputPart, Imf::DeepScanLineOutputPart>(out, index, fb, plan);
 }
 
 }  // namespace

@@ -1,22 +1,18 @@
 // describe(): the text behind `gdof --info`.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <sstream>
 
+#include "common/format_number.h"
 #include "gdof/io/image_io.h"
 
 namespace gdof::io {
 
 namespace {
 
-std::string fmt_num(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
+std::string fmt_num(double v) { return format_number(v, 6); }
 
 std::string window(const Roi& r) {
     std::ostringstream os;

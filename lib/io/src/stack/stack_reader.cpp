@@ -90,6 +90,14 @@ struct StackReader::Impl {
         return "reference '" + stack.references[std::size_t(i)].path + "' (references[" + std::to_string(i) + "])";
     }
 
+    // Reference i, opened (under `mu`), as a copy to read from without the lock.
+    Result<Ref> opened_ref(int i) {
+        if (i < 0 || i >= int(refs.size())) return Status::error("reference " + std::to_string(i) + " out of range");
+        std::lock_guard<std::mutex> lock(mu);
+        if (Status s = open(i); !s) return s;
+        return refs[std::size_t(i)];
+    }
+
     // Opens reference i under `mu`.
     Status open(int i) {
         Ref& r = refs[std::size_t(i)];
@@ -213,14 +221,10 @@ int StackReader::cache_files_opened() const {
 }
 
 Result<ReferenceInfo> StackReader::info(int i) {
-    if (i < 0 || i >= size()) return Status::error("reference " + std::to_string(i) + " out of range");
     Impl& m = *impl_;
-    Impl::Ref r;
-    {
-        std::lock_guard<std::mutex> lock(m.mu);
-        if (Status s = m.open(i); !s) return s;
-        r = m.refs[std::size_t(i)];
-    }
+    const Result<Impl::Ref> opened = m.opened_ref(i);
+    if (!opened) return opened.status();
+    const Impl::Ref& r = *opened;
     const OIIO::ImageSpec* spec = m.cache->imagespec(r.name);
     if (!spec) return Status::error(m.where(i) + ": cannot read: " + m.cache->geterror());
     ReferenceInfo info;
@@ -240,14 +244,10 @@ Result<ReferenceInfo> StackReader::info(int i) {
 }
 
 Status StackReader::read_tile(int i, const Roi& tile, float* rgba) {
-    if (i < 0 || i >= size()) return Status::error("reference " + std::to_string(i) + " out of range");
     Impl& m = *impl_;
-    Impl::Ref r;
-    {
-        std::lock_guard<std::mutex> lock(m.mu);
-        if (Status s = m.open(i); !s) return s;
-        r = m.refs[std::size_t(i)];
-    }
+    const Result<Impl::Ref> opened = m.opened_ref(i);
+    if (!opened) return opened.status();
+    const Impl::Ref& r = *opened;
     if (tile.empty()) return Status::ok();
     if (tile.x0 < 0 || tile.y0 < 0 || tile.x1 > r.dw.width() || tile.y1 > r.dw.height())
         return Status::error(m.where(i) + ": tile " + to_string(tile) + " is outside the image");

@@ -54,38 +54,6 @@ Result<Header> read_header(const std::string& path) {
     return h;
 }
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-    std::vector<std::string> out;
-    std::string cur;
-    for (char c : line) {
-        if (c == ',') {
-            out.push_back(cur);
-            cur.clear();
-        } else if (c != '\r') {
-            cur += c;
-        }
-    }
-    out.push_back(cur);
-    for (auto& s : out) {
-        const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
-        s = b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-    }
-    return out;
-}
-
-// A number cell: finite, as JSON numbers are (no "nan", "inf" or overflow).
-std::optional<double> number_cell(const std::string& cell) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-        v = std::stod(cell, &used);
-    } catch (...) {
-        return std::nullopt;
-    }
-    if (used == 0 || used != cell.size() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
-
 std::string resolve(const std::string& base, const std::string& p) {
     return fs::path(p).is_absolute() || base.empty() ? p : (fs::path(base) / p).string();
 }
@@ -121,63 +89,27 @@ Status expand_from_table(json& j, const std::string& base, const std::string& pa
     const std::string tpath = resolve(base, table);
     const Result<std::string> text = read_text(tpath, "table");
     if (!text) return text.status();
-    std::vector<std::string> header;
+    const std::string source = "table '" + tpath + "'";
+    const auto rows = read_lens_table(*text, source);
+    if (!rows) return rows.status();
     json refs = json::array();
-    int lineno = 0;
-    static const char* kNumeric[] = {"focus_distance", "f_number", "focal_length_mm", "sensor_width_mm", "near", "far"};
-    for (std::size_t pos = 0; pos < text->size();) {
-        std::size_t end = text->find('\n', pos);
-        if (end == std::string::npos) end = text->size();
-        const std::string line = text->substr(pos, end - pos);
-        pos = end + 1;
-        ++lineno;
-        if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
-        auto cells = split_csv_line(line);
-        if (header.empty()) {
-            header = cells;
-            bool has_key = false;
-            for (const auto& h : header) {
-                bool known = h == "frame" || h == "file";
-                for (const char* k : kNumeric) known = known || h == k;
-                if (!known)
-                    return Status::error("table '" + tpath + "': unknown column '" + h +
-                                         "' (known: frame, file, focus_distance, f_number, focal_length_mm, "
-                                         "sensor_width_mm, near, far)");
-                has_key = has_key || h == "frame" || h == "file";
-            }
-            if (!has_key) return Status::error("table '" + tpath + "': needs a 'frame' or 'file' column");
-            continue;
-        }
-        if (cells.size() != header.size())
-            return Status::error("table '" + tpath + "' line " + std::to_string(lineno) + ": " +
-                                 std::to_string(cells.size()) + " cells, the header has " + std::to_string(header.size()));
+    for (const LensTableRow& row : *rows) {
         json r;
-        for (std::size_t c = 0; c < header.size(); ++c) {
-            const std::string& h = header[c];
-            const std::string where = "table '" + tpath + "' line " + std::to_string(lineno) + " column '" + h + "'";
-            if (h == "file") {
-                r["file"] = cells[c];
-                continue;
-            }
-            if (h == "far" && cells[c] == "inf") {
-                r["far"] = "inf";
-                continue;
-            }
-            const std::optional<double> number = number_cell(cells[c]);
-            if (!number) return Status::error(where + ": not a number: '" + cells[c] + "'");
-            const double v = *number;
-            if (h == "frame") {
-                if (pattern.empty()) return Status::error(where + ": a 'frame' column needs \"pattern\" in the manifest");
-                auto file = expand_frame_pattern(pattern, int(v));
-                if (!file) return file.status();
-                r["file"] = *file;
-            } else {
-                r[h] = v;
-            }
+        if (row.file) r["file"] = *row.file;
+        if (row.frame) {
+            const std::string where = source + " line " + std::to_string(row.line) + " column 'frame'";
+            if (pattern.empty()) return Status::error(where + ": a 'frame' column needs \"pattern\" in the manifest");
+            auto file = expand_frame_pattern(pattern, int(*row.frame));
+            if (!file) return file.status();
+            r["file"] = *file;
+        }
+        for (const auto& [column, v] : row.values) {
+            if (std::isinf(v)) r[column] = "inf";
+            else r[column] = v;
         }
         refs.push_back(r);
     }
-    if (refs.empty()) return Status::error("table '" + tpath + "': no rows");
+    if (refs.empty()) return Status::error(source + ": no rows");
     if (!j.contains("width") || !j.contains("height")) {
         auto h = read_header(resolve(base, refs[0]["file"].get<std::string>()));
         if (!h) return h.status();

@@ -16,7 +16,10 @@
 // from the first reference's header when not given.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gdof/focal_stack.h"
 #include "gdof/status.h"
@@ -24,5 +27,25 @@
 namespace gdof::io {
 
 Result<FocalStack> load_stack(const std::string& manifest_path);
+
+// A lens table (CSV): the "table" of a manifest, or the OFX plugin's
+// lens_table parameter. A header row names the columns, then one row per
+// reference; blank lines and lines starting with '#' are skipped, cells are
+// trimmed. Columns: the reference ("frame", or also "file" with
+// LensTableKey::FrameOrFile) and any of focus_distance, f_number,
+// focal_length_mm, sensor_width_mm, near, far. Number cells (frame too) are
+// finite numbers; far may be "inf". Errors begin with `source` ("table
+// 'lens.csv'", "parameter 'lens_table'") and name the line and column. A
+// table without rows is no error here (the callers say what a row needs).
+enum class LensTableKey { FrameOrFile, Frame };
+struct LensTableRow {
+    int line = 0;                     // 1-based line of the text
+    std::optional<double> frame;      // the "frame" cell
+    std::optional<std::string> file;  // the "file" cell
+    // The other cells in column order, by column name; far "inf" is +inf.
+    std::vector<std::pair<std::string, double>> values;
+};
+Result<std::vector<LensTableRow>> read_lens_table(const std::string& text, const std::string& source,
+                                                  LensTableKey key = LensTableKey::FrameOrFile);
 
 }  // namespace gdof::io
