@@ -384,9 +384,6 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             ds.split = take(parse_layer_split(d.layers), "layers");
             const ImageSet* input = d.input == "deep" ? &deep_set : d.input == "flat+Z" ? &flat_set : &degraded_set;
             if (input == &degraded_set) ds.source.depth_decode = DepthDecode{DepthEncoding::Scaled, 1.0 / 1000.0};
-            if (std::getenv("GDOF_EXP_NOMIXED")) ds.cleanup.split_mixed = false;  // EXP
-            if (std::getenv("GDOF_EXP_GAPS") && d.input != "deep") ds.split.blur_cuts = LayerSplit::BlurCuts::Off;  // EXP
-            if (std::getenv("GDOF_EXP_ONLY") && std::string(std::getenv("GDOF_EXP_ONLY")) != d.input + " " + d.layers) continue;  // EXP
             ImageSet result;
             const double secs = best_time(reps, [&] { result = take(defocus(*input, field, cam, ds), "defocus"); });
             const std::string method = std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
@@ -397,6 +394,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             row(method, setting, secs, result.flat(0));
             if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
                 best["diffusion auto (deep)"] = rgb_of(result.flat(0), frame);
+            if (d.input != "deep" && d.layers == "auto")
+                best["diffusion auto (" + d.input + ")"] = rgb_of(result.flat(0), frame);
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
@@ -445,7 +444,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
 
         if (!big) {
             std::vector<Picture> pics;
-            for (const char* k : {"raytrace adaptive 64", "diffusion auto (deep)", "compositing 48 hard", "gaussian 8 slices"})
+            for (const char* k : {"raytrace adaptive 64", "diffusion auto (deep)", "diffusion auto (flat+Z)",
+                                  "diffusion auto (degraded Z)", "compositing 48 hard", "gaussian 8 slices"})
                 if (best.count(k)) pics.push_back({k, best[k]});
             write_grid(opt.out + "/errors_" + name + "_" + fname + ".png", truth, pics, 0.1);
         }

@@ -101,6 +101,13 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
 // focus distance picked from the picture: robust to noise, holes and edges.
 double depth_at(const PlateDepth& depth, int x, int y, int r = 2);
 
+// The focus distance a pixel asks for, straight from the plate (no whole-frame
+// preparation): channel `depth_channel` decoded in the (2 r + 1)^2 window
+// around (x, y) and depth_at's median of it; +inf for sky. Errors: a pixel
+// outside the data window, a window without one valid depth (naming both).
+Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                 const Camera& camera, int x, int y, int r = 2);
+
 // What a pixel of a plate is: its depth (depth_at), world position and blur.
 struct PixelProbe {
     int x = 0, y = 0;

@@ -13,7 +13,6 @@
 #include <array>
 #include <chrono>
 #include <limits>
-#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -70,6 +69,40 @@ struct InputChoice {
     InputKind kind = InputKind::DepthMap;
     int deep_part = -1;  // Deep: the first deep part
 };
+
+// A depth map in its own part (renderers' and stereo files' "depth" parts):
+// when exactly one flat part has colour (R, G, B, no layer groups) and no
+// depth, and another flat part without colour has the depth channel, the
+// plate with that depth attached (as `depth_channel`, default Z) in `out`.
+Result<bool> with_depth_part(const ImageSet& input, const PositionSource& source, ImageSet& out) {
+    int plate = -1, depth = -1, zc = -1;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+        if (input.is_deep(i)) return false;
+        const Image& img = input.flat(i);
+        const RgbaIndices ix = find_rgba(img);
+        auto z = find_depth_channel(img, source.depth_channel);
+        if (ix.r >= 0 && ix.g >= 0 && ix.b >= 0) {
+            if (plate >= 0 || !rgba_groups(img).empty() || (z && *z >= 0)) return false;
+            plate = int(i);
+        } else if (z && *z >= 0 && depth < 0) {
+            depth = int(i), zc = *z;
+        }
+    }
+    if (plate < 0 || depth < 0) return false;
+    Image merged = input.flat(std::size_t(plate));
+    const auto name = [&](int k) {
+        const std::string& n = input.part_name(std::size_t(k));
+        return n.empty() ? "part " + std::to_string(k) : "part '" + n + "'";
+    };
+    if (Status st = attach_depth(merged, input.flat(std::size_t(depth)), zc,
+                                 source.depth_channel.empty() ? std::string("Z") : source.depth_channel, name(plate),
+                                 name(depth));
+        !st)
+        return st.prefix("defocus");
+    out.parts.clear();
+    out.parts.emplace_back(std::move(merged));
+    return true;
+}
 
 InputChoice choose_input(const ImageSet& input) {
     for (std::size_t i = 0; i < input.size(); ++i)
@@ -203,10 +236,7 @@ Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& 
                              (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
                              "' (channels: " + channel_list(flat) + ")",
                              StatusCode::NotFound, "depth_channel");
-    DepthCleanupOptions cl = settings.cleanup;                     // EXP
-    if (std::getenv("GDOF_EXP_NOSPECK")) cl.remove_speckles = false;  // EXP
-    if (std::getenv("GDOF_EXP_NOMIXED")) cl.split_mixed = false;      // EXP
-    auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, cl, exec);
+    auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, settings.cleanup, exec);
     if (!pd) return pd.status().prefix("defocus");
     depth_stats = pd->stats;
     std::vector<float> r, rf;
@@ -215,9 +245,9 @@ Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& 
     so.split = settings.split;
     so.source = settings.source;
     so.depth = &pd.value();
-    if (std::getenv("GDOF_EXP_NOCONT")) so.continue_surfaces = false;  // EXP
     so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
-    // Continued surfaces hide the cuts, so plates are cut by blur unless told not to.
+    // Plates are continuous (floors, tables): only cuts by blur let a blurred
+    // foreground spread over a sharp background, so they are on unless told not.
     if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
         so.radius = r;
         so.fg_radius = rf;
@@ -307,6 +337,17 @@ Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* c
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
                          const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (input.empty()) return Status::error("defocus: the input has no image parts");
+    if (const std::vector<std::string> views = part_views(input); views.size() > 1) {
+        std::string list;
+        for (const std::string& v : views) list += (list.empty() ? "'" : ", '") + v + "'";
+        return Status::error("defocus: the input has " + std::to_string(views.size()) + " views (" + list +
+                                 "); defocus one view at a time (select_view)",
+                             StatusCode::InvalidArgument, "view");
+    }
+    ImageSet merged;
+    auto merge = with_depth_part(input, settings.source, merged);
+    if (!merge) return merge.status();
+    if (*merge) return defocus(merged, field, camera, settings, stats, exec);
     const InputChoice choice = choose_input(input);
     const OutputReference ref = output_reference(input, choice);
 

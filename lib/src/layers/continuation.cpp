@@ -93,10 +93,19 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
                                    int W, int H) {
     const std::size_t n = front.size();
+    // Emptiness (no sample at all: a render's transparent sky) is the
+    // farthest candidate: a strip of wall next to it has nothing behind it
+    // there, and a copy of the next strip would blur out over it a second time.
+    std::vector<int> owner(n, -1), best_k(n, -1);
+    std::vector<float> best, dist;
+    std::vector<unsigned char> empty(n, 0);
+    bool any_empty = false;
+    for (std::size_t i = 0; i < n; ++i)
+        if (front[i] < 0) empty[i] = 1, any_empty = true;
+    if (any_empty) distance_transform(empty, W, H, best);
+    else best.assign(n, std::numeric_limits<float>::infinity());
     // Back to front: before slice k's distances join, `best` holds the
     // nearest of the slices behind k, which is what k's pixels need.
-    std::vector<int> owner(n, -1), best_k(n, -1);
-    std::vector<float> best(n, std::numeric_limits<float>::infinity()), dist;
     for (int k = int(own.size()) - 1; k >= 0; --k) {
         for (std::size_t i = 0; i < n; ++i)
             if (front[i] == k) owner[i] = best_k[i];

@@ -140,15 +140,15 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
     // Which slice continues or extends behind each pixel (the background
     // seen nearest to it).
     std::vector<int> front(n, -1);
-    std::vector<std::vector<unsigned char>> own(static_cast<std::size_t>(ns), std::vector<unsigned char>(n, 0));
+    std::vector<std::vector<unsigned char>> owns(static_cast<std::size_t>(ns), std::vector<unsigned char>(n, 0));
     for (std::size_t i = 0; i < n; ++i) {
         if (slice[i] < 0) continue;
-        own[std::size_t(slice[i])][i] = 1;
+        owns[std::size_t(slice[i])][i] = 1;
         front[i] = slice[i];
-        if (fg_slice[i] >= 0) own[std::size_t(fg_slice[i])][i] = 1, front[i] = std::min(front[i], fg_slice[i]);
+        if (fg_slice[i] >= 0) owns[std::size_t(fg_slice[i])][i] = 1, front[i] = std::min(front[i], fg_slice[i]);
     }
-    const std::vector<int> owner = background_owners(front, own, W, H);
-    own.clear();
+    const std::vector<int> owner = background_owners(front, owns, W, H);
+    owns.clear();
 
     // 3. Per slice: own samples, continued pixels of nearer slices.
     std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};

@@ -82,8 +82,10 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 for (int x = 0; x < ww; ++x) {
                     const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
                     const bool hidden = opt.occluder_alpha > 0.0f ? occ[i] >= opt.occluder_alpha : pres[i] != 0;
-                    const bool allowed = opt.owner.empty() || opt.owner[i] == s;
-                    if (hidden && !own[i] && (fills_frame || (allowed && dist[wi] <= opt.extend_px))) {
+                    // The farthest layer still backs what its owner's reach misses (an
+                    // opaque plate stays opaque), but not what borders emptiness.
+                    const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
+                    if (hidden && !own[i] && allowed && (fills_frame || dist[wi] <= opt.extend_px)) {
                         ext[wi] = 1;
                         any = true;
                         box = unite(box, Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});

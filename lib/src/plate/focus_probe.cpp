@@ -31,6 +31,37 @@ double depth_at(const PlateDepth& pd, int x, int y, int r) {
     return med;
 }
 
+Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                 const Camera& camera, int x, int y, int r) {
+    const std::string at = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+    if (!plate.data_window().contains(x, y))
+        return Status::error("focus at " + at + ": outside the image " + to_string(plate.data_window()),
+                             StatusCode::InvalidArgument, "focus_at");
+    if (depth_channel < 0 || depth_channel >= plate.nchannels())
+        return Status::error("focus at " + at + ": no depth channel", StatusCode::NotFound, "depth_channel");
+    if (plate.channel(depth_channel).type == PixelType::UInt)
+        return Status::error("focus at " + at + ": depth channel '" + plate.channel(depth_channel).name +
+                                 "' is not a float channel",
+                             StatusCode::InvalidArgument, "depth_channel");
+    auto dec = resolve_depth_decode(decode, camera);
+    if (!dec) return dec.status().prefix("focus at " + at);
+    // The window decoded as prepare_plate_depth decodes (holes stay NaN and
+    // drop out of the median).
+    PlateDepth pd;
+    pd.window = intersect(plate.data_window(), Roi{x - r, y - r, x + r + 1, y + r + 1});
+    for (int yy = pd.window.y0; yy < pd.window.y1; ++yy)
+        for (int xx = pd.window.x0; xx < pd.window.x1; ++xx) {
+            double z = decode_depth(plate.at(depth_channel, xx, yy), *dec);
+            if (dec->range && std::isfinite(z)) z /= length(camera.depth_line(xx + 0.5, yy + 0.5).per_depth);
+            pd.depth.push_back(float(z));
+        }
+    const double d = depth_at(pd, x, y, r);
+    if (std::isnan(d))
+        return Status::error("focus at " + at + ": no valid depth within " + std::to_string(r) + " px",
+                             StatusCode::NotFound, "focus_at");
+    return d;
+}
+
 Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const BlurField& field, int x, int y, int r) {
     if (!pd.window.contains(x, y))
         return Status::error("probe: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image " +

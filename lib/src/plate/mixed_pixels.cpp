@@ -22,22 +22,35 @@ namespace gdof::plate_detail {
 
 std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity) {
     std::vector<unsigned char> cand(depth.size(), 0);
+    // 1 / depth at (x, y); NaN outside the image or without a finite depth.
+    auto inv = [&](int x, int y) {
+        if (x < 0 || x >= W || y < 0 || y >= H) return std::numeric_limits<double>::quiet_NaN();
+        const float q = depth[std::size_t(y) * std::size_t(W) + std::size_t(x)];
+        return std::isfinite(q) ? 1.0 / double(q) : std::numeric_limits<double>::quiet_NaN();
+    };
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            const float d = depth[i];
-            if (!std::isfinite(d)) continue;
-            bool nearer = false, farther = false;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                    const float q = depth[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
-                    if (!std::isfinite(q)) continue;  // sky and holes: no depth to mix with
-                    if (double(q) * continuity < double(d)) nearer = true;
-                    if (double(q) > double(d) * continuity) farther = true;
+            const double d = inv(x, y);
+            if (std::isnan(d)) continue;
+            for (const auto& dir : dirs) {
+                // Along a line through the pixel: one side nearer, the other
+                // farther, each by more than `continuity` (sky and holes have
+                // no depth to mix with) ...
+                const double a = inv(x - dir[0], y - dir[1]), b = inv(x + dir[0], y + dir[1]);
+                if (std::isnan(a) || std::isnan(b)) continue;
+                const double hi = std::max(a, b), lo = std::min(a, b);
+                if (!(hi > d * continuity && d > lo * continuity)) continue;
+                // ... and the two sides much flatter than the jump: a step with
+                // one pixel between, not a surface receding steeply (a floor at
+                // a grazing angle, where 1/depth is a straight ramp).
+                const double a2 = inv(x - 2 * dir[0], y - 2 * dir[1]), b2 = inv(x + 2 * dir[0], y + 2 * dir[1]);
+                const double sa = std::isnan(a2) ? 0.0 : std::abs(a2 - a), sb = std::isnan(b2) ? 0.0 : std::abs(b2 - b);
+                if (sa + sb < 0.5 * (hi - lo)) {
+                    cand[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1;
+                    break;
                 }
-            cand[i] = nearer && farther ? 1 : 0;
+            }
         }
     return cand;
 }

@@ -19,9 +19,11 @@ struct Guide {
 };
 Guide make_guide(const Image& plate);
 
-// Pixels sandwiched between a nearer and a farther neighbour (step larger
-// than `continuity`): the candidates for mixed silhouette pixels (1), which
-// speckle removal leaves alone.
+// Pixels sandwiched between a nearer and a farther neighbour on one line
+// (steps larger than `continuity`) whose outer neighbours on that line are
+// much flatter than the jump (a silhouette, not a steep ramp): the
+// candidates for mixed silhouette pixels (1), which speckle removal leaves
+// alone.
 std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int width, int height, double continuity);
 
 // Islands of at most `max_px` pixels that no neighbour continues become NaN

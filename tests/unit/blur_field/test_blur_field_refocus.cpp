@@ -18,12 +18,12 @@ TEST(blur_field_refocus, MovesTheThinLensFocusInsideCombinators) {
     const Camera cam = camera();
     auto f = BlurField::parse(R"({"blurfield": {"kind": "max", "children": [
         {"kind": "scale", "factor": 2, "child": {"kind": "thin_lens", "focal_length_mm": 50, "f_number": 2, "focus_distance": 3}},
-        {"kind": "focal_planes", "depths": [10], "max_blur": 4}]}})");
+        {"kind": "focal_planes", "depths": [10], "max_blur": 4, "slope": 1}]}})");
     ASSERT_TRUE(f) << f.message();
     auto g = f->refocused(1.5);
     ASSERT_TRUE(g) << g.message();
     const BlurField planes =
-        BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [10], "max_blur": 4}})").value();
+        BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [10], "max_blur": 4, "slope": 1}})").value();
     ThinLens l;
     l.focal_length_mm = 50, l.f_number = 2, l.focus_distance = 1.5, l.sensor_width_mm = 36, l.image_width_px = 640;
     for (double z : {0.8, 1.5, 2.5, 6.0}) {
@@ -36,7 +36,7 @@ TEST(blur_field_refocus, MovesTheThinLensFocusInsideCombinators) {
 }
 
 TEST(blur_field_refocus, NamesWhatCannotBeRefocused) {
-    auto planes = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [2, 5]}})");
+    auto planes = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [2, 5], "max_blur": 6}})");
     ASSERT_TRUE(planes);
     auto r = planes->refocused(3.0);
     ASSERT_FALSE(r);
