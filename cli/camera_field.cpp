@@ -3,6 +3,8 @@
 
 #include "blur_state.h"
 #include "errors.h"
+#include "gdof/blur_map.h"
+#include "gdof/plate.h"
 
 namespace gdof::cli {
 
@@ -15,7 +17,39 @@ Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const
     return std::move(cam).value();
 }
 
+Camera image_camera(const Frame& f, const ImageSet& set, std::size_t part, const std::string& flag,
+                    const std::string& where) {
+    const Roi display = set.is_deep(part) ? set.deep(part).display_window() : set.flat(part).display_window();
+    Camera cam = part_camera(f, set.metadata(part), display, flag, where);
+    if (!f.focus_at) return cam;
+    const auto [x, y] = *f.focus_at;
+    // The part with the depth: this one, else the first flat one that has it.
+    const Image* plate = nullptr;
+    int zc = -1;
+    for (std::size_t k = 0; k <= set.size() && !plate; ++k) {
+        const std::size_t i = k == 0 ? part : k - 1;
+        if (i >= set.size() || set.is_deep(i)) continue;
+        auto z = find_depth_channel(set.flat(i), f.source.depth_channel);
+        if (z && *z >= 0) plate = &set.flat(i), zc = *z;
+    }
+    if (!plate)
+        runtime_error("--focus-at: " + where + " has no flat part with a depth channel '" +
+                      (f.source.depth_channel.empty() ? std::string("Z") : f.source.depth_channel) + "'");
+    auto d = focus_distance_at(*plate, zc, f.source.depth_decode, cam, x, y);
+    if (!d) runtime_error("--focus-at: " + where + ": " + message_naming_flag(d.status()));
+    LensOverrides lens = f.lens;
+    lens.focus_distance = *d;
+    auto focused = resolve_camera(set.metadata(part), display, lens);
+    if (!focused) runtime_error("--focus-at: " + where + ": " + message_naming_flag(focused.status()));
+    return std::move(focused).value();
+}
+
 BlurField field_for(const Frame& f, const Camera& camera, const std::string& flag, const std::string& where) {
+    if (f.blur && f.focus_at) {
+        auto r = f.blur->field.refocused(camera.lens().focus_distance);
+        if (!r) runtime_error(flag + ": --focus-at: " + message_naming_flag(r.status()));
+        return std::move(r).value();
+    }
     if (f.blur) return f.blur->field;
     auto lens = camera.thin_lens();
     if (!lens)

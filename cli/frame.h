@@ -84,8 +84,12 @@ struct Frame {
     PositionSource source;
     LensOverrides lens;
     std::shared_ptr<BlurState> blur;  // --blurfield
+    // --focus-at X,Y: the focus distance is the depth at that pixel (the thin
+    // lens's, and a --blurfield refocused there).
+    std::optional<std::pair<int, int>> focus_at;
 
-    // --solver, --adi-steps, --layers; --diffuse takes its source from `source`.
+    // --solver, --adi-steps, --layers, --depth-cleanup; --diffuse takes its
+    // source from `source`.
     DefocusOptions defocus;
 
     PendingRender render;

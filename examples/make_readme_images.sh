@@ -35,4 +35,16 @@ fi
 "$gdof" --render "$root/examples/render/generated.json" --blurfield "$root/examples/render/generated_two_planes.json" \
         --spp 32 -o "$tmp/render.exr"
 "$gdof" "$tmp/render.exr" --ch R,G,B -o "$img/raytrace_two_planes.png"
+# Live action: a real RGB-D frame (TUM: colour PNG + uint16 depth PNG, metres =
+# counts / 5000, 19% holes), plate and depth map as two files, focus picked on
+# the yellow chair. Skipped when ../shared/data is absent.
+tum="$root/../shared/data/rgbd/tum"
+if [[ -f "$tum/color.png" && -f "$tum/depth.png" ]]; then
+  "$gdof" "$tum/color.png" --ch R,G,B -o "$img/live_tum_plate.png"
+  "$gdof" "$tum/color.png" --depth-channel Y --depth-encoding scaled --depth-scale 13.107 --depth "$tum/depth.png" \
+          --focal-length-mm 50 --sensor-width-mm 36 --f-number 0.7 --focus-at 470,270 --probe 470,270 \
+          --diffuse --ch R,G,B -o "$img/live_tum_defocus.png"
+else
+  echo "skipping the live-action pictures: no $tum" >&2
+fi
 echo "wrote $(ls "$img")" >&2

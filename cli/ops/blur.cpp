@@ -68,7 +68,12 @@ bool eval_blur_flat(Frame& f, Image& img, const std::string& where, std::vector<
             return false;
         }
     }
-    const Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
+    ImageSet one;  // the part as a set, for --focus-at's depth lookup
+    Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
+    if (f.focus_at) {
+        one.parts.emplace_back(img);
+        camera = image_camera(f, one, 0, "--eval-blur", where);
+    }
     const BlurField field = field_for(f, camera, "--eval-blur", where);
     // Output channel: replaces an existing float "blur".
     int bc = img.channel_index("blur");

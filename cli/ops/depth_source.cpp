@@ -1,6 +1,8 @@
 // Where --eval-blur, --diffuse and --composite find depth: the position or
 // depth channels and how depth values are encoded (Frame::source, a
 // PositionSource).
+#include <limits>
+
 #include "cli.h"
 #include "ops/ops.h"
 
@@ -9,12 +11,18 @@ namespace gdof::cli {
 namespace {
 
 Command source_option(std::vector<std::string> names, std::string args, std::string help,
-                      std::function<void(Frame&, const Step&)> run) {
+                      std::function<void(Frame&, const Step&)> run, std::function<void(const Step&)> check = {}) {
     return {.names = std::move(names), .args = std::move(args), .kind = Kind::Modifier, .group = "Blur field",
-            .help = std::move(help), .run = std::move(run)};
+            .help = std::move(help), .run = std::move(run), .check = std::move(check)};
 }
 
 double number(const Step& s) { return parse_double(s.flag, s.args[0]); }
+
+double invalid(const Step& s) {
+    if (s.args[0] == "hole") return std::numeric_limits<double>::quiet_NaN();
+    if (s.args[0] == "sky") return std::numeric_limits<double>::infinity();
+    usage_error(s.flag + ": expected hole or sky, got '" + s.args[0] + "'");
+}
 
 }  // namespace
 
@@ -27,7 +35,8 @@ std::vector<Command> depth_source_commands() {
                               [](Frame& f, const Step& s) { f.source.depth_channel = s.args[0]; }));
     t.push_back(source_option(
         {"--depth-encoding"}, "NAME",
-        "depth values are metric (default), inverse, scaled (e.g. uint16 counts), near_far_linear, near_far_inverse",
+        "depth values are metric (default), inverse, scaled (e.g. uint16 counts), near_far_linear, near_far_inverse, "
+        "disparity (depth = focal length in px x --baseline / value)",
         [](Frame& f, const Step& s) {
             auto e = parse_depth_encoding(s.args[0]);
             if (!e) usage_error(s.flag + ": " + e.message());
@@ -39,6 +48,22 @@ std::vector<Command> depth_source_commands() {
                               [](Frame& f, const Step& s) { f.source.depth_decode.near = number(s); }));
     t.push_back(source_option({"--depth-far"}, "D", "far depth for near_far_* encodings (scene units)",
                               [](Frame& f, const Step& s) { f.source.depth_decode.far = number(s); }));
+    t.push_back(source_option({"--depth-invalid"}, "hole|sky",
+                              "what invalid depth (0, NaN, --depth-invalid-value, beyond --depth-max) is: a hole, "
+                              "filled from around it (default), or sky (infinitely far)",
+                              [](Frame& f, const Step& s) { f.source.depth_decode.invalid = invalid(s); },
+                              [](const Step& s) { invalid(s); }));
+    t.push_back(source_option({"--depth-invalid-value"}, "V", "a stored value that means no measurement (e.g. 65535)",
+                              [](Frame& f, const Step& s) { f.source.depth_decode.invalid_value = number(s); }));
+    t.push_back(source_option({"--depth-max"}, "D", "decoded depths beyond D are invalid (a sensor's range)",
+                              [](Frame& f, const Step& s) { f.source.depth_decode.max_depth = number(s); }));
+    t.push_back(source_option({"--baseline"}, "B",
+                              "stereo baseline (scene units) for --depth-encoding disparity; the focal length in px "
+                              "comes from the camera (or --depth-scale gives focal px x baseline)",
+                              [](Frame& f, const Step& s) { f.source.depth_decode.baseline = number(s); }));
+    t.push_back(source_option({"--depth-range"}, "",
+                              "depth values are distances along each pixel's ray, not along the viewing axis",
+                              [](Frame& f, const Step&) { f.source.depth_decode.range = true; }));
     return t;
 }
 

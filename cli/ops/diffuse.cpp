@@ -23,10 +23,6 @@ std::size_t reference_part(const ImageSet& set) {
     return 0;
 }
 
-Roi part_display(const ImageSet& set, std::size_t i) {
-    return set.is_deep(i) ? set.deep(i).display_window() : set.flat(i).display_window();
-}
-
 void report_defocus(Frame& f, const std::string& where, const DefocusStats& stats) {
     Session& s = *f.session;
     s.stats.add(" layers", stats.t_layers);
@@ -44,17 +40,11 @@ void report_defocus(Frame& f, const std::string& where, const DefocusStats& stat
     }
 }
 
-void do_diffuse(Frame& f) {
+// One view (or a file without views) through defocus().
+ImageSet diffuse_view(Frame& f, const ImageSet& images, const std::string& where) {
     Session& s = *f.session;
-    StackEntry& top = f.top("--diffuse");
-    const std::string where = image_name(top);
-    if (top.images.empty()) runtime_error("--diffuse: " + where + " has no image parts");
-    if (!top.colorspace.empty())
-        runtime_error("--diffuse: the colour channels of " + where + " are in '" + top.colorspace +
-                      "' (after --colorconvert); diffuse in the scene-linear working space, convert afterwards");
-
-    const std::size_t ref = reference_part(top.images);
-    const Camera camera = part_camera(f, top.images.metadata(ref), part_display(top.images, ref), "--diffuse", where);
+    const std::size_t ref = reference_part(images);
+    const Camera camera = image_camera(f, images, ref, "--diffuse", where);
     const BlurField field = field_for(f, camera, "--diffuse", where);
     DefocusOptions options = f.defocus;
     options.source = f.source;
@@ -64,13 +54,40 @@ void do_diffuse(Frame& f) {
     {
         StageTimer timer(s.stats, "diffuse");
         s.progress.begin("diffuse");
-        result = defocus(top.images, field, camera, options, &stats, s.exec);
+        result = defocus(images, field, camera, options, &stats, s.exec);
         s.progress.end();
     }
     check_interrupted();
     if (!result) runtime_error("--diffuse: " + where + ": " + message_naming_flag(result.status()));
-    top.images = std::move(result).value();
     report_defocus(f, where, stats);
+    return std::move(result).value();
+}
+
+void do_diffuse(Frame& f) {
+    StackEntry& top = f.top("--diffuse");
+    const std::string where = image_name(top);
+    if (top.images.empty()) runtime_error("--diffuse: " + where + " has no image parts");
+    if (!top.colorspace.empty())
+        runtime_error("--diffuse: the colour channels of " + where + " are in '" + top.colorspace +
+                      "' (after --colorconvert); diffuse in the scene-linear working space, convert afterwards");
+    // A stereo / multi-view file: every view, one output part each (--view
+    // picks one).
+    const std::vector<std::string> views = part_views(top.images);
+    if (views.size() <= 1) {
+        top.images = diffuse_view(f, top.images, where);
+        return;
+    }
+    ImageSet out;
+    for (const std::string& v : views) {
+        auto sub = select_view(top.images, v);
+        if (!sub) runtime_error("--diffuse: " + where + ": " + sub.message());
+        ImageSet r = diffuse_view(f, *sub, where + " view '" + v + "'");
+        for (Part& p : r.parts) {
+            std::visit([&](auto& img) { img.view = v; }, p);
+            out.parts.push_back(std::move(p));
+        }
+    }
+    top.images = std::move(out);
 }
 
 // The values of --solver, --layers, --adi-steps; usage errors naming the flag.
@@ -107,10 +124,9 @@ std::vector<Command> diffuse_commands() {
                  .run = [](Frame& f, const Step& s) { f.defocus.diffusion.solver = solver(s); },
                  .check = [](const Step& s) { solver(s); }});
     t.push_back({.names = {"--layers"}, .args = "N|auto[:OPTS]|id[:CHANNEL]", .kind = Kind::Modifier, .group = D,
-                 .help = "how --diffuse splits the input into layers: auto (depth clusters; deep inputs also cut where "
-                         "the blur changes by more than max(2 px, largest/4)); options after auto: MAX layers, blur (cut "
-                         "flat+Z inputs too), blur=PX, gaps (no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep "
-                         "id channel",
+                 .help = "how --diffuse splits the input into layers: auto (depth clusters, also cut where the blur "
+                         "changes by more than max(2 px, largest/4)); options after auto: MAX layers, blur=PX, gaps (no "
+                         "blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel",
                  .run = [](Frame& f, const Step& s) { f.defocus.split = layer_split(s); },
                  .check = [](const Step& s) { layer_split(s); }});
     t.push_back({.names = {"--adi-steps"}, .args = "K", .kind = Kind::Modifier, .group = D,

@@ -45,6 +45,10 @@ void describe_defocus_params(ParamDefiner& d) {
     d.number("sensor_width_mm", "Sensor Width (mm)", def.sensor_width_mm, 0.1, 1000, 5, 70, "Sensor width matching the image width");
     d.number("f_number", "f-number", def.f_number, 0.1, 1000, 1, 32, "thin_lens: aperture f-number");
     d.number("focus_distance", "Focus Distance", def.focus_distance, 1e-4, 1e9, 0.1, 100, "thin_lens: focus distance in scene units");
+    d.boolean("use_focus_at", "Focus at Point", def.use_focus_at,
+              "thin_lens: focus at the depth of the Focus At point (median of the 5x5 valid depths around it) "
+              "instead of Focus Distance (--focus-at)");
+    d.point2("focus_at", "Focus At", def.focus_at, "The point of the image whose depth the lens focuses at");
     d.number("scene_unit_mm", "Scene Unit (mm)", def.scene_unit_mm, 1e-6, 1e9, 1, 1000, "Millimetres per scene unit (1000: metres)");
 
     d.group("grp_planes", "Focal Planes");
@@ -94,9 +98,10 @@ void describe_defocus_params(ParamDefiner& d) {
              "auto: per layer, the faster of the two for its blur; adi: cost independent of the blur; explicit: the paper's reference");
     d.integer("adi_steps", "ADI Steps", 0, 0, 1000, "ADI sub-steps (quality); 0: automatic");
     d.integer("layers", "Layers", 0, 0, 1024, "Depth layers: 0 = automatic (split at depth gaps), N = N slices even in 1/depth");
-    d.boolean("cut_by_blur", "Cut Layers by Blur", false,
+    d.boolean("cut_by_blur", "Cut Layers by Blur", true,
               "Automatic layers only: also cut where the blur changes inside a continuous depth range (a ground "
-              "plane), so a blurred object in front of its sharp part spreads over it (--layers auto:blur)");
+              "plane), so a blurred object in front of its sharp part spreads over it (the default, as the CLI's "
+              "--layers auto); off: cut at depth gaps only (--layers auto:gaps)");
     d.choice("analysis", "Layer Analysis", kAnalyses, 0,
              "frame: layers and blur are analysed on the whole source frame, so tiles match the full render; "
              "region: only the render region plus the blur margin is read (faster on large plates, tiles may differ "
@@ -112,6 +117,8 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.sensor_width_mm = r.number("sensor_width_mm");
     p.f_number = r.number("f_number");
     p.focus_distance = r.number("focus_distance");
+    p.use_focus_at = r.boolean("use_focus_at");
+    p.focus_at = r.point2("focus_at");
     p.scene_unit_mm = r.number("scene_unit_mm");
     const int n = r.integer("depths_count");
     if (n < 1 || n > kMaxFocalPlanes)
@@ -205,7 +212,7 @@ Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
     if (!solver) return solver.status().prefix("parameter 'solver'");
     s.diffusion.solver = *solver;
     s.diffusion.adi_steps = p.adi_steps;
-    auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto:blur" : "auto"));
+    auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto" : "auto:gaps"));
     if (!split) return split.status().prefix("parameter 'layers'");
     s.split = *split;
     s.source.depth_channel = "Z";

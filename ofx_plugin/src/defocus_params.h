@@ -23,6 +23,10 @@ struct DefocusParams {
     double max_radius = 32;          // px at render scale 1
     // Camera and thin lens.
     double focal_length_mm = 50, sensor_width_mm = 36, f_number = 2.8, focus_distance = 2, scene_unit_mm = 1000;
+    // focus_at: the thin lens focused at the depth of this point of the image
+    // (canonical coordinates) instead of focus_distance (the CLI's --focus-at).
+    bool use_focus_at = false;
+    std::array<double, 2> focus_at{0, 0};
     // focal_planes
     std::vector<double> depths;
     double max_blur = 8, slope = 0;  // slope 0: not given
@@ -43,7 +47,7 @@ struct DefocusParams {
     std::string solver = to_string(DiffusionOptions{}.solver);  // the library's default (auto)
     int adi_steps = 0;
     int layers = 0;                 // 0: auto
-    bool cut_by_blur = false;       // auto layers also cut by blur (auto:blur)
+    bool cut_by_blur = true;        // auto layers also cut by blur (off: auto:gaps)
     std::string analysis = "frame"; // frame | region
 };
 

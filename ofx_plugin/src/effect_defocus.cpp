@@ -1,10 +1,13 @@
 // "gdof Defocus": method 3 (heat diffusion of depth layers, gdof/defocus.h)
 // on the Source clip, with the depth from the Depth clip and the blur field
 // from the parameters: the same defocus() call as `gdof --diffuse`.
+#include <cmath>
+
 #include "defocus_inputs.h"
 #include "defocus_params.h"
 #include "effects.h"
 #include "gdof/defocus.h"
+#include "gdof/plate.h"
 #include "ofx_clips.h"
 #include "ofx_params.h"
 
@@ -80,7 +83,7 @@ public:
 
     void render(OfxImageEffectHandle fx, const RenderArgs& a) override {
         const PixelFrame f = pixel_frame(fx, a.scale);
-        const DefocusParams p = read_defocus_params(ParamReader(fx, a.time));
+        DefocusParams p = read_defocus_params(ParamReader(fx, a.time));
         const Clip src(fx, kSource), depth(fx, kDepth), map(fx, kBlurMap), mask(fx, kMask), output(fx, kOutput);
 
         const ClipImage out(output, a.time);
@@ -114,6 +117,19 @@ public:
             add_depth(img, dimg, p, f, *camera);
         } else {
             add_flat_depth(img);
+        }
+        if (p.use_focus_at) {
+            // The same focus as --focus-at: the median depth around the point.
+            if (p.kind != "thin_lens") fail("focus_at: only the thin_lens kind has a focus distance");
+            const int x = int(std::floor(p.focus_at[0] * f.sx / f.par));
+            const int y = f.gdof_y(int(std::floor(p.focus_at[1] * f.sy)));
+            auto opts = defocus_settings(p);
+            if (!opts) fail(opts.message());
+            auto d = focus_distance_at(img, img.channel_index("Z"), opts->source.depth_decode, *camera, x, y);
+            if (!d) fail("focus_at: " + d.message());
+            p.focus_distance = *d;
+            camera = resolve_camera(Metadata{}, f.display, lens_overrides(p));
+            if (!camera) fail("camera: " + camera.message());
         }
 
         BlurField::Context ctx;

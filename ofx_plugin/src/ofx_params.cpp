@@ -84,6 +84,13 @@ Props ParamDefiner::point3(const char* name, const char* label, std::array<doubl
     return p;
 }
 
+Props ParamDefiner::point2(const char* name, const char* label, std::array<double, 2> def, const char* hint) {
+    Props p = define(kOfxParamTypeDouble2D, name, label, hint);
+    p.set(kOfxParamPropDoubleType, kOfxParamDoubleTypeXYAbsolute);
+    p.set_doubles(kOfxParamPropDefault, {def[0], def[1]});
+    return p;
+}
+
 Props ParamDefiner::text(const char* name, const char* label, const char* def, const char* mode, const char* hint) {
     Props p = define(kOfxParamTypeString, name, label, hint);
     p.set(kOfxParamPropDefault, def);
@@ -127,6 +134,12 @@ std::array<double, 3> ParamReader::point3(const char* name) const {
     std::array<double, 3> v{};
     check(pm().paramGetValueAtTime(handle(name), time_, &v[0], &v[1], &v[2]),
           std::string("reading parameter '") + name + "'");
+    return v;
+}
+
+std::array<double, 2> ParamReader::point2(const char* name) const {
+    std::array<double, 2> v{};
+    check(pm().paramGetValueAtTime(handle(name), time_, &v[0], &v[1]), std::string("reading parameter '") + name + "'");
     return v;
 }
 

@@ -27,6 +27,8 @@ public:
     Props choice(const char* name, const char* label, const std::vector<std::string>& options, int def,
                  const char* hint);
     Props point3(const char* name, const char* label, std::array<double, 3> def, const char* hint);
+    // A point on the image, in canonical coordinates (the host's on-screen handle).
+    Props point2(const char* name, const char* label, std::array<double, 2> def, const char* hint);
     // mode: kOfxParamStringIsSingleLine, ...IsMultiLine, ...IsFilePath.
     Props text(const char* name, const char* label, const char* def, const char* mode, const char* hint);
 
@@ -47,6 +49,7 @@ public:
     // The chosen option of a choice parameter defined with `options`.
     std::string option(const char* name, const std::vector<std::string>& options) const;
     std::array<double, 3> point3(const char* name) const;
+    std::array<double, 2> point2(const char* name) const;
     std::string text(const char* name) const;
     double time() const { return time_; }
 

@@ -45,6 +45,7 @@
 #include "gdof/render_stack.h"
 #include "gdof/scene.h"
 #include "methods/bench_metrics.h"
+#include "methods/degraded_depth.h"
 #include "methods/gaussian_layers.h"
 
 using namespace gdof;
@@ -151,17 +152,18 @@ struct Row {
 class Csv {
 public:
     explicit Csv(const std::string& path) : out_(path) {
-        out_ << "scene,width,height,field,method,setting,seconds,psnr,rel_l1,rel_l2,ssim,edge_rel_l1,primary_rays\n";
+        out_ << "scene,width,height,field,method,setting,seconds,psnr,rel_l1,rel_l2,ssim,edge_rel_l1,away_rel_l1,primary_rays\n";
     }
     void add(const Row& r) {
         char b[512];
-        std::snprintf(b, sizeof b, "%s,%d,%d,%s,%s,%s,%.6g,%.4f,%.6g,%.6g,%.5f,%.6g,%llu\n", r.scene.c_str(), r.w, r.h,
-                      r.field.c_str(), r.method.c_str(), r.setting.c_str(), r.seconds, r.m.psnr, r.m.rel_l1, r.m.rel_l2,
-                      r.m.ssim, r.m.edge_rel_l1, (unsigned long long)r.rays);
+        std::snprintf(b, sizeof b, "%s,%d,%d,%s,%s,%s,%.6g,%.4f,%.6g,%.6g,%.5f,%.6g,%.6g,%llu\n", r.scene.c_str(), r.w,
+                      r.h, r.field.c_str(), r.method.c_str(), r.setting.c_str(), r.seconds, r.m.psnr, r.m.rel_l1,
+                      r.m.rel_l2, r.m.ssim, r.m.edge_rel_l1, r.m.away_rel_l1, (unsigned long long)r.rays);
         out_ << b;
         out_.flush();
-        std::fprintf(stderr, "  %-28s %-22s %8.3f s  rel L1 %.4f  edge %.4f  PSNR %.2f  SSIM %.4f\n", r.method.c_str(),
-                     r.setting.c_str(), r.seconds, r.m.rel_l1, r.m.edge_rel_l1, r.m.psnr, r.m.ssim);
+        std::fprintf(stderr, "  %-28s %-22s %8.3f s  rel L1 %.4f  edge %.4f  away %.4f  PSNR %.2f  SSIM %.4f\n",
+                     r.method.c_str(), r.setting.c_str(), r.seconds, r.m.rel_l1, r.m.edge_rel_l1, r.m.away_rel_l1,
+                     r.m.psnr, r.m.ssim);
     }
 
 private:
@@ -271,7 +273,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         }
     const FocalStack plan = take(plan_render_stack(cam, spec), "stack plan");
     std::vector<Image> refs;
-    if (opt.prepare || opt.runs("compositing")) {
+    if (opt.runs("compositing")) {  // --prepare --methods diffusion,... renders no stack
         RenderOptions rs;
         rs.spp = big ? 32 : 128;
         rs.min_spp = big ? 8 : 16;
@@ -341,9 +343,14 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         }
 
         // Diffusion (method 3) on the deep render and on flat + Z.
-        ImageSet deep_set, flat_set;
+        ImageSet deep_set, flat_set, degraded_set;
         deep_set.parts.emplace_back(deep);
         flat_set.parts.emplace_back(pinhole);
+        // Live action as it comes from a sensor: the same plate with a
+        // degraded depth map (holes, noise, uint16 millimetres).
+        bench::DegradedDepthStats dstats;
+        degraded_set.parts.emplace_back(bench::degraded_depth(pinhole, scale, 0xdefec7, &dstats));
+        std::fprintf(stderr, "   degraded depth: %.1f%% holes\n", 100.0 * dstats.hole_fraction);
         // Settings: ADI sub-steps K (0 = automatic) or the explicit solver's
         // safety factor on its iteration count (1 = the stability limit).
         struct Diff {
@@ -364,6 +371,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             {"deep", "8", Exp, 0, 2.0, false},
             {"flat+Z", "auto", Adi},        {"flat+Z", "auto:blur", Adi, 0, 0, false}, {"flat+Z", "8", Adi},               {"flat+Z", "16", Adi, 0, 0, false},
             {"flat+Z", "8", Exp, 0, 0, false},
+            {"flat+Z", "1", Auto},  // one layer: what a continuous surface looks like uncut (seams)
+            {"degraded Z", "auto", Auto},
         };
         if (!opt.runs("diffusion")) diffs.clear();
         for (const Diff& d : diffs) {
@@ -373,10 +382,10 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             ds.diffusion.adi_steps = d.adi_steps;
             if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
             ds.split = take(parse_layer_split(d.layers), "layers");
+            const ImageSet* input = d.input == "deep" ? &deep_set : d.input == "flat+Z" ? &flat_set : &degraded_set;
+            if (input == &degraded_set) ds.source.depth_decode = DepthDecode{DepthEncoding::Scaled, 1.0 / 1000.0};
             ImageSet result;
-            const double secs = best_time(reps, [&] {
-                result = take(defocus(d.input == "deep" ? deep_set : flat_set, field, cam, ds), "defocus");
-            });
+            const double secs = best_time(reps, [&] { result = take(defocus(*input, field, cam, ds), "defocus"); });
             const std::string method = std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
             char safety[32] = "";
             if (d.safety > 0) std::snprintf(safety, sizeof safety, " s=%g", d.safety);
@@ -385,6 +394,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             row(method, setting, secs, result.flat(0));
             if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
                 best["diffusion auto (deep)"] = rgb_of(result.flat(0), frame);
+            if (d.input != "deep" && d.layers == "auto")
+                best["diffusion auto (" + d.input + ")"] = rgb_of(result.flat(0), frame);
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
@@ -433,7 +444,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
 
         if (!big) {
             std::vector<Picture> pics;
-            for (const char* k : {"raytrace adaptive 64", "diffusion auto (deep)", "compositing 48 hard", "gaussian 8 slices"})
+            for (const char* k : {"raytrace adaptive 64", "diffusion auto (deep)", "diffusion auto (flat+Z)",
+                                  "diffusion auto (degraded Z)", "compositing 48 hard", "gaussian 8 slices"})
                 if (best.count(k)) pics.push_back({k, best[k]});
             write_grid(opt.out + "/errors_" + name + "_" + fname + ".png", truth, pics, 0.1);
         }

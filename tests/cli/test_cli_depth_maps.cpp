@@ -53,8 +53,13 @@ TEST(cli_depth_maps, ScaledUint16DepthGivesTheThinLensCoC) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const float v = px[(std::size_t(y) * w + x) * spec.nchannels + b];
-            // Zero counts are "no measurement": depth +inf, the lens's blur at infinity.
-            const double depth = x == 0 ? INFINITY : counts[std::size_t(y) * w + x] / 5000.0;
+            // Zero counts are "no measurement": a hole, no depth and no blur
+            // (--diffuse fills holes; --depth-invalid sky makes them infinitely far).
+            if (x == 0) {
+                ASSERT_TRUE(std::isnan(v)) << v;
+                continue;
+            }
+            const double depth = counts[std::size_t(y) * w + x] / 5000.0;
             const double expected = lens.coc_radius_px(depth);
             ASSERT_NEAR(v, expected, 1e-4 * (1 + expected)) << x << "," << y;
         }
@@ -91,9 +96,12 @@ TEST(cli_depth_maps, RealTumDepthFrame) {
     std::size_t valid = 0;
     for (std::size_t i = 0; i < raw.size(); i += 97) {
         const double counts = std::round(raw[i] * 65535.0);
-        const double depth_m = counts == 0 ? INFINITY : counts / 5000.0;
-        const double expected = lens.coc_radius_px(depth_m);
         const float v = blur[i * std::size_t(spec.nchannels) + std::size_t(b)];
+        if (counts == 0) {  // a hole: no depth, no blur
+            ASSERT_TRUE(std::isnan(v)) << "pixel " << i;
+            continue;
+        }
+        const double expected = lens.coc_radius_px(counts / 5000.0);
         ASSERT_TRUE(std::isfinite(v));
         ASSERT_NEAR(v, expected, 1e-3 * (1 + expected)) << "pixel " << i;
         valid += counts > 0;

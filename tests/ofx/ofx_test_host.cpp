@@ -328,6 +328,10 @@ void Instance::set(const std::string& name, double v) { param(name, kOfxParamTyp
 void Instance::set_int(const std::string& name, int v) { param(name, kOfxParamTypeInteger).i.at(0) = v; }
 void Instance::set_bool(const std::string& name, bool v) { param(name, kOfxParamTypeBoolean).i.at(0) = v ? 1 : 0; }
 void Instance::set_string(const std::string& name, const std::string& v) { param(name, kOfxParamTypeString).s = v; }
+void Instance::set2(const std::string& name, double x, double y) {
+    Param& p = param(name, kOfxParamTypeDouble2D);
+    p.d = {x, y};
+}
 void Instance::set3(const std::string& name, double x, double y, double z) {
     Param& p = param(name, kOfxParamTypeDouble3D);
     p.d = {x, y, z};

@@ -150,6 +150,7 @@ public:
     void set(const std::string& name, double v);
     void set_int(const std::string& name, int v);
     void set_bool(const std::string& name, bool v);
+    void set2(const std::string& name, double x, double y);
     void set_choice(const std::string& name, const std::string& option);
     void set_string(const std::string& name, const std::string& v);
     void set3(const std::string& name, double x, double y, double z);

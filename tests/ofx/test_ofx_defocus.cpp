@@ -84,22 +84,26 @@ TEST(ofx_defocus, FocalPlanesEqualCliDiffuseTo1e5) {
     EXPECT_EQ(f.s.fx->destroy(), kOfxStatOK);
 }
 
-// "Cut Layers by Blur" is the CLI's --layers auto:blur: equal to it, and not
-// the gaps-only split (the plate's ground is a continuous depth range whose
-// blur changes, so the cuts add layers).
+// "Cut Layers by Blur" (on by default) is the CLI's default --layers auto,
+// off its auto:gaps: equal to each, and different from each other (the
+// plate's ground is a continuous depth range whose blur changes, so the cuts
+// add layers).
 TEST(ofx_defocus, CutByBlurEqualsCliAutoBlur) {
     Fixture f;
     ASSERT_TRUE(f.s.ok());
     set_planes(*f.s.fx);
-    const Rendered gaps = f.s.fx->render(0, kFull);
-    ASSERT_EQ(gaps.status, kOfxStatOK) << f.s.fx->persistent_message();
-    f.s.fx->set_bool("cut_by_blur", true);
     const Rendered r = f.s.fx->render(0, kFull);
     ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
-    const double d = max_diff_to_file(r, f.cli(kPlanesJson, "--layers auto:blur"), 4, H);
+    f.s.fx->set_bool("cut_by_blur", false);
+    const Rendered gaps = f.s.fx->render(0, kFull);
+    ASSERT_EQ(gaps.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const double d = max_diff_to_file(r, f.cli(kPlanesJson, "--layers auto"), 4, H);
+    const double dg = max_diff_to_file(gaps, f.cli(kPlanesJson, "--layers auto:gaps"), 4, H);
     const double from_gaps = max_diff(r, gaps);
-    std::printf("OFX cut_by_blur vs CLI auto:blur: max |diff| = %.3g; vs gaps only: %.3g\n", d, from_gaps);
+    std::printf("OFX cut_by_blur vs CLI auto: max |diff| = %.3g; off vs auto:gaps %.3g; on vs off: %.3g\n", d, dg,
+                from_gaps);
     EXPECT_LE(d, 1e-5);
+    EXPECT_LE(dg, 1e-5);
     EXPECT_GT(from_gaps, 1e-3);
 }
 
@@ -123,6 +127,34 @@ TEST(ofx_defocus, ThinLensEqualsCliWithTheSameLens) {
     const double d = max_diff_to_file(r, out, 4, H);
     std::printf("OFX vs CLI (thin lens, 4 layers, explicit): max |diff| = %.3g\n", d);
     EXPECT_LE(d, 1e-5);
+}
+
+// "Focus at Point" is the CLI's --focus-at: the same pixel (canonical y is
+// bottom-up), the same median depth, the same result; and it refocuses.
+TEST(ofx_defocus, FocusAtEqualsCliFocusAt) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    Instance& fx = *f.s.fx;
+    fx.set_choice("kind", "thin_lens");
+    fx.set("focal_length_mm", 50);
+    fx.set("f_number", 1.4);
+    fx.set("focus_distance", 6);
+    fx.set("max_radius", 10);
+    const Rendered at6 = fx.render(0, kFull);
+    ASSERT_EQ(at6.status, kOfxStatOK) << fx.persistent_message();
+    const int px = W / 4, py = H / 2;
+    fx.set_bool("use_focus_at", true);
+    fx.set2("focus_at", px + 0.5, H - py - 0.5);
+    const Rendered r = fx.render(0, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << fx.persistent_message();
+    const std::string out =
+        f.cli(R"({"blurfield": {"kind": "thin_lens", "focal_length_mm": 50, "f_number": 1.4, "focus_distance": 6,
+                                "sensor_width_mm": 36}, "max_radius": 10})",
+              "--f-number 1.4 --focus-distance 6 --focus-at " + std::to_string(px) + "," + std::to_string(py));
+    const double d = max_diff_to_file(r, out, 4, H);
+    std::printf("OFX focus_at vs CLI --focus-at: max |diff| = %.3g; vs focus 6: %.3g\n", d, max_diff(r, at6));
+    EXPECT_LE(d, 1e-5);
+    EXPECT_GT(max_diff(r, at6), 1e-3);
 }
 
 TEST(ofx_defocus, RegionOfFocusFromAPositionPassEqualsCli) {
@@ -315,11 +347,11 @@ TEST(ofx_defocus, HalfScaleEqualsTheFullRenderReducedWithinTolerance) {
     const ScaleError box = half_scale_error("box");
     EXPECT_LE(box.mean, 0.01);
     EXPECT_LE(box.p99, 0.15);
-    EXPECT_LE(box.max, 0.35);
+    EXPECT_LE(box.max, 0.45);
     const ScaleError nearest = half_scale_error("nearest");
     EXPECT_LE(nearest.mean, 0.01);
     EXPECT_LE(nearest.p99, 0.15);
-    EXPECT_LE(nearest.max, 0.35);
+    EXPECT_LE(nearest.max, 0.45);
 }
 
 TEST(ofx_defocus, UnpremultipliedSourceIsPremultipliedAndOutputDeclaredPremultiplied) {

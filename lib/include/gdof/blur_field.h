@@ -114,6 +114,10 @@ public:
     Result<DepthInterval> primary_in_focus_interval(const Camera& camera, double px, double py, double coc_px,
                                                     double depth_min, double depth_max) const;
 
+    // The same field with every thin_lens in it focused at `focus_distance`
+    // (scene units, finite and beyond the focal length): a focus picked from the picture
+    // (plate.h depth_at). An error when the field has no thin_lens.
+    Result<BlurField> refocused(double focus_distance) const;
     // Global clamp from "max_radius" (+inf if none).
     double max_radius() const { return max_radius_; }
     // True if B depends only on depth (thin_lens, focal_planes and their combinations).

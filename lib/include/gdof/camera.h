@@ -103,11 +103,26 @@ struct LensInfo {
     }
 };
 
+// How a world's axes turn: which side of the image world +x lands on for a
+// camera looking down world +z with world +y up.
+enum class Handedness {
+    // Right-handed world (OBJ, USD, Blender, Maya, Houdini; scene JSON): a
+    // camera looking down -z sees +x on the right, so looking down +z it sees
+    // +x on the left.
+    Right,
+    // Left-handed world (RenderMan, OpenEXR camera space): looking down +z,
+    // +x is on the right. The camera built from lens flags for a plate (at the
+    // origin, looking down +z) uses it: its world is its camera space.
+    Left,
+};
+const char* to_string(Handedness h);
+
 // An explicit camera description.
 struct CameraDesc {
     Vec3 position{0, 0, 0};
     Vec3 look_at{0, 0, 1};
     Vec3 up{0, 1, 0};
+    Handedness handedness = Handedness::Right;  // of the world position / look_at / up are given in
     Projection projection = Projection::Perspective;
     // Perspective: horizontal field of view from focal length and sensor width,
     // or hfov_deg when > 0 (then focal_length_mm is kept as lens information only).
@@ -243,8 +258,10 @@ struct LensOverrides {
 
 // The camera of an image: its EXR attributes (worldToCamera / worldToNDC and
 // lens data) with the overrides applied. Without camera attributes, a camera
-// at the origin looking down +z is built when a focal length is given;
-// otherwise an error says what is missing.
+// at the origin looking down +z is built when a focal length is given, with
+// world = camera space: world +x is right in the image, +y up, depth = z
+// (worldToCamera is the identity, as in OpenEXR / RenderMan); otherwise an
+// error says what is missing.
 Result<Camera> resolve_camera(const Metadata& md, const Roi& display_window, const LensOverrides& overrides = {});
 
 // ---------------------------------------------------------------------------
@@ -259,27 +276,56 @@ enum class DepthEncoding {
                      // normalised 0..1 (OIIO): scale = 65535/5000.
     NearFarLinear,   // depth = near + v * (far - near), v in 0..1
     NearFarInverse,  // 1/depth = 1/near + v * (1/far - 1/near), v in 0..1
+    // Stereo disparity in pixels: depth = focal length (px) x baseline / v.
+    // With `baseline` set the focal length is the camera's (resolve_depth_decode);
+    // else `scale` is the product f_px x baseline. v <= 0 is invalid (most
+    // disparity maps store 0 for "unknown").
+    Disparity,
 };
 const char* to_string(DepthEncoding e);
-// Parses "metric", "inverse", "scaled", "near_far_linear", "near_far_inverse".
+// Parses "metric", "inverse", "scaled", "near_far_linear", "near_far_inverse", "disparity".
 Result<DepthEncoding> parse_depth_encoding(const std::string& name);
 
+// How a depth channel's stored values become metric depth, and what an
+// invalid value (no measurement) becomes.
+//
+// Invalid values: NaN; a decoded depth that is not > 0; -inf; for Scaled and
+// Disparity a stored 0; NearFar* values outside 0..1; the stored value
+// `invalid_value` when given; decoded depths beyond `max_depth`. They become
+// `invalid`: NaN, a **hole** (the default: plate preparation fills it from its
+// surroundings, plate.h), or +inf, **sky** (infinitely far: what a user
+// chooses for a depth sensor's out-of-range sky). An explicit +inf (a
+// renderer's sky, Inverse 0) is always sky.
 struct DepthDecode {
     DepthEncoding encoding = DepthEncoding::Metric;
     double scale = 1.0;
     double near = 0.0, far = 0.0;  // NearFar* only (scene units), 0 < near < far
     bool flip = false;             // NearFar*: use 1 - v (maps where 1 = near)
     // The value is distance along the pixel's ray (range), not along the
-    // viewing axis; converted with the camera (depth_to_positions only).
+    // viewing axis; converted with the camera (depth_to_positions and plate
+    // preparation).
     bool range = false;
-    // Value given to invalid samples (NaN input, negative where meaningless,
-    // 0 for Scaled): +inf (default, "far away") or NaN.
-    double invalid = std::numeric_limits<double>::infinity();
+    // What invalid samples become: NaN (a hole, the default) or +inf (sky).
+    double invalid = std::numeric_limits<double>::quiet_NaN();
+    // A stored value that means "no measurement" (e.g. 65535), besides the above.
+    std::optional<double> invalid_value{};
+    // Decoded depths beyond this are invalid (a sensor's range); +inf: none.
+    double max_depth = std::numeric_limits<double>::infinity();
+    // Disparity: the stereo baseline (scene units) and the focal length in
+    // pixels it multiplies (set from the camera by resolve_depth_decode).
+    double baseline = std::numeric_limits<double>::quiet_NaN();
+    double focal_px = std::numeric_limits<double>::quiet_NaN();
 
     Status validate() const;
 };
 
-// One stored value -> depth (scene units). Invalid values -> `invalid`.
+// The decode with what it needs from the camera filled in (Disparity with a
+// baseline: the camera's horizontal focal length in pixels).
+Result<DepthDecode> resolve_depth_decode(const DepthDecode& d, const Camera& camera);
+
+// One stored value -> depth (scene units). Invalid values -> `invalid`; a
+// Disparity decode must be resolved (resolve_depth_decode) or carry its
+// f_px x baseline in `scale`.
 double decode_depth(double v, const DepthDecode& d);
 // In place over a whole plane.
 void decode_depth(std::span<float> values, const DepthDecode& d);

@@ -19,6 +19,7 @@
 #include "gdof/exec.h"
 #include "gdof/image_set.h"
 #include "gdof/layers.h"
+#include "gdof/plate.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -27,6 +28,7 @@ struct DefocusOptions {
     DiffusionOptions diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
     PositionSource source;   // position / depth channels and depth encoding
+    DepthCleanupOptions cleanup;  // RGBA + depth (plates): speckles, holes, mixed pixels (plate.h)
     // Output region in absolute pixels; empty = the whole result: the union
     // of the layers' data windows and their work regions (each layer's
     // content grown by defocus_margin of its own largest blur), clipped to
@@ -48,6 +50,7 @@ struct DefocusStats {
     std::size_t pixels_diffused = 0;  // summed over layers (work-region pixels)
     std::size_t pixels_skipped = 0;   // layer pixels outside any work region / in sharp layers
     double max_radius_px = 0.0;
+    DepthCleanupStats depth;   // plates: what the depth preparation did
     // Seconds per stage.
     double t_layers = 0, t_blur = 0, t_extrapolate = 0, t_diffuse = 0, t_composite = 0;
     std::string report() const;  // multi-line, for --stats

@@ -14,6 +14,7 @@
 #include "gdof/exec.h"
 #include "gdof/image.h"
 #include "gdof/image_set.h"
+#include "gdof/plate.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -118,25 +119,57 @@ Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const Position
 
 // Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
-// opaque) goes to exactly one slice, the slice of its depth, with its colour
-// and alpha. The depth channel (source.depth_channel or Z, depth.Z, Depth.Z,
-// depth, Depth) is decoded with source.depth_decode; pixels whose decoded
-// depth is not finite (invalid, holes, sky) get Z = +inf and belong to the
-// farthest slice. Position channels (source.position_channels) are carried.
-// Extension: for every slice but the nearest non-empty one, the pixels
-// present in nearer slices (hidden behind them) within `extend_px` pixels
-// (Euclidean) of the slice's own pixels -- for the farthest non-empty slice
-// all hidden pixels of the image -- get alpha 1 and a push-pull fill
-// (fill.h) of the slice's unpremultiplied colour (weights = its alpha) and
-// of its depth and positions (weights = its alpha where finite), so
+// opaque) goes to the slice of its depth, with its colour and alpha. The
+// depth is `options.depth` (a plate's prepared depth, plate.h: holes filled,
+// mixed silhouette pixels split), or else the depth channel
+// (source.depth_channel or Z, depth.Z, Depth.Z, depth, Depth) decoded with
+// source.depth_decode, where a depth that is not finite (a hole, sky) is
+// +inf. A mixed pixel goes to its background's slice with the background's
+// colour, and to its foreground's slice with the foreground's colour and
+// share of its alpha (so `over` gives the pixel back exactly). Position
+// channels are carried (without a prepared depth).
+//
+// Continued surfaces (continue_surfaces, off by default): every slice also holds, with their own colour, alpha and depth,
+// the pixels of nearer slices that continue its own surface: reached from
+// its own pixels through neighbours whose depths lie within
+// `continuity` of each other, up to `extend_px` pixels away. When a nearer
+// slice's edge is blurred away, the very surface shows through, not a fill;
+// a silhouette (a depth step larger than `continuity`) stops the
+// continuation, so a foreground never shows behind itself. Off by default:
+// a copy of the nearer slice's content blurs out of the cut a second time
+// where that content is bright (a lamp on a ceiling cut by blur: +7% energy
+// around it on the benchmark's Cornell box, relative L1 away from edges
+// 0.085 against 0.059 for the extension alone). The extension below,
+// from the slice's own pixels, is what the layered sum needs behind a cut.
+//
+// What lies behind a hidden pixel is the background seen nearest to it:
+// among the slices behind the pixel's own, only the one whose own pixels are
+// nearest (Euclidean) continues or extends there, and none where emptiness
+// (pixels without any sample) is nearer still. So the back of a wall's near
+// strip is its next strip where they meet, but nothing where the strip meets
+// a transparent sky (a copy of the strip's silhouette would otherwise blur
+// out over the sky a second time).
+//
+// Extension: for every slice but the nearest non-empty one, its hidden
+// pixels (present in nearer slices) within `extend_px` pixels (Euclidean)
+// of the slice's own pixels -- for the farthest non-empty slice all hidden
+// pixels of the image -- that are not continued get alpha 1 and a push-pull
+// fill (fill.h) of the slice's unpremultiplied colour (weights = its alpha)
+// and of its depth and positions (weights = its alpha where finite), so
 // blurring a foreground away reveals plausible background, not black.
 struct SliceOptions {
     LayerSplit split;
-    PositionSource source;   // depth channel and its encoding
+    PositionSource source;   // depth channel and its encoding (when `depth` is null)
     double extend_px = 0.0;  // typically the largest blur radius of the image
     // Optional: the blur radius of every pixel (row-major over the image's
-    // data window), for Auto's blur cuts; empty: gaps only. Not owned.
-    std::span<const float> radius;
+    // data window), for Auto's blur cuts; empty: gaps only. With a prepared
+    // depth that has mixed pixels, `fg_radius` gives their foregrounds'
+    // radii (one per entry of depth->mixed). Not owned.
+    std::span<const float> radius, fg_radius;
+    // The plate's prepared depth over the image's data window; not owned.
+    const PlateDepth* depth = nullptr;
+    bool continue_surfaces = false;
+    double continuity = 1.05;  // neighbouring depth ratio within which a surface continues
 };
 Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                  const Exec& exec = {});
@@ -154,6 +187,11 @@ struct ExtendOptions {
     // A pixel is hidden when the nearer layers' accumulated alpha reaches
     // this (deep renders: 0.999, fully occluded); 0 = any nearer coverage.
     float occluder_alpha = 0.0f;
+    // Optional, per frame pixel (row-major over `frame`): the one layer that
+    // may extend there (-1: emptiness is nearer, none may; the farthest
+    // still fills where another owner's reach ends).
+    // Empty: every layer may. Not owned.
+    std::span<const int> owner;
 };
 Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                             const Exec& exec = {});

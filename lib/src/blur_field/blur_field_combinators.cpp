@@ -81,6 +81,17 @@ public:
         return s + ")";
     }
 
+    Result<NodePtr> refocused(double d) const override {
+        std::vector<NodePtr> kids = children_;
+        bool changed = false;
+        for (NodePtr& k : kids) {
+            auto r = k->refocused(d);
+            if (!r) return r;
+            if (*r) k = *r, changed = true;
+        }
+        return changed ? NodePtr(std::make_shared<NaryNode>(op_, std::move(kids))) : NodePtr();
+    }
+
 private:
     Op op_;
     std::vector<NodePtr> children_;
@@ -101,6 +112,11 @@ public:
     }
     bool linear_between_breakpoints() const override { return child_->linear_between_breakpoints(); }
     std::string describe() const override { return "scale(" + child_->describe() + ")"; }
+    Result<NodePtr> refocused(double d) const override {
+        auto r = child_->refocused(d);
+        if (!r || !*r) return r;
+        return NodePtr(std::make_shared<ScaleNode>(*r, factor_));
+    }
 
 private:
     NodePtr child_;
@@ -126,6 +142,11 @@ public:
     }
     bool linear_between_breakpoints() const override { return child_->linear_between_breakpoints(); }
     std::string describe() const override { return "clamp(" + child_->describe() + ")"; }
+    Result<NodePtr> refocused(double d) const override {
+        auto r = child_->refocused(d);
+        if (!r || !*r) return r;
+        return NodePtr(std::make_shared<ClampNode>(*r, lo_, hi_));
+    }
 
 private:
     NodePtr child_;

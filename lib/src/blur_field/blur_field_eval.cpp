@@ -124,4 +124,22 @@ double eval_on_ray(const Node& node, const Ray& r, double depth) {
 
 }  // namespace bf
 
+namespace bf {
+
+Result<NodePtr> Node::refocused(double) const { return NodePtr(); }
+
+}  // namespace bf
+
+Result<BlurField> BlurField::refocused(double focus_distance) const {
+    if (!(focus_distance > 0) || std::isnan(focus_distance))
+        return Status::error("focus distance: must be > 0, got " + std::to_string(focus_distance),
+                             StatusCode::InvalidArgument, "focus_distance");
+    auto r = root_->refocused(focus_distance);
+    if (!r) return r.status();
+    if (!*r)
+        return Status::error("the blur field " + describe() + " has no thin_lens to focus", StatusCode::InvalidArgument,
+                             "focus_distance");
+    return BlurField(*r, max_radius_);
+}
+
 }  // namespace gdof

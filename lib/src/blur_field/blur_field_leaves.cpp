@@ -43,6 +43,12 @@ public:
     }
     bool linear_between_breakpoints() const override { return false; }
     std::string describe() const override { return "thin_lens"; }
+    Result<NodePtr> refocused(double focus_distance) const override {
+        ThinLens l = lens_;
+        l.focus_distance = focus_distance;
+        if (Status st = l.validate(); !st) return st.prefix("thin_lens refocused");
+        return make_thin_lens(l);
+    }
 
 private:
     ThinLens lens_;

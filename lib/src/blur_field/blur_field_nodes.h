@@ -46,6 +46,10 @@ public:
     // Exactly linear in depth between consecutive breakpoints (no subdivision needed).
     virtual bool linear_between_breakpoints() const = 0;
     virtual std::string describe() const = 0;
+    // This node with every thin lens in it focused at `focus_distance`, or
+    // null when it holds no thin lens (nothing to refocus). The lens with its
+    // new focus must be valid (else an error naming the distance).
+    virtual Result<std::shared_ptr<const Node>> refocused(double focus_distance) const;
 };
 
 using NodePtr = std::shared_ptr<const Node>;

@@ -105,6 +105,8 @@ Status Camera::init(const Mat44& w2c_file, const Mat44& w2ndc, const Roi& displa
     return {};
 }
 
+const char* to_string(Handedness h) { return h == Handedness::Left ? "left" : "right"; }
+
 Result<Camera> Camera::create(const CameraDesc& d) {
     if (!finite(d.position)) return Status::error("camera position: must be finite");
     if (!finite(d.look_at)) return Status::error("camera look_at: must be finite");
@@ -112,11 +114,13 @@ Result<Camera> Camera::create(const CameraDesc& d) {
     const Vec3 dir = d.look_at - d.position;
     if (!(length(dir) > 0)) return Status::error("camera look_at: must differ from the position");
     const Vec3 f = normalize(dir);
-    const Vec3 rc = cross(f, d.up);
+    // Image right: forward x up in a right-handed world, up x forward in a left-handed one.
+    const bool left = d.handedness == Handedness::Left;
+    const Vec3 rc = left ? cross(d.up, f) : cross(f, d.up);
     if (!(length(rc) > 1e-12 * length(d.up)) || !(length(d.up) > 0))
         return Status::error("camera up: must not be zero or parallel to the viewing direction");
     const Vec3 r = normalize(rc);
-    const Vec3 u = cross(r, f);
+    const Vec3 u = left ? cross(f, r) : cross(r, f);
     if (d.display_window.empty())
         return Status::error("camera display_window: " + to_string(d.display_window) + " is empty");
     if (d.forward_axis == ForwardAxis::Auto)

@@ -23,6 +23,7 @@ Result<Camera> resolve_camera(const Metadata& metadata, const Roi& display_windo
                              "camera at the origin looking down +z)",
                              StatusCode::NotFound, "focal_length_mm");
     CameraDesc d;
+    d.handedness = Handedness::Left;  // world = camera space: +x right, +y up, +z forward
     d.focal_length_mm = *ov.focal_length_mm;
     if (ov.sensor_width_mm) d.sensor_width_mm = *ov.sensor_width_mm;
     if (ov.f_number) d.f_number = *ov.f_number;

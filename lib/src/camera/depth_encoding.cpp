@@ -14,34 +14,66 @@ const char* to_string(DepthEncoding e) {
         case DepthEncoding::Scaled: return "scaled";
         case DepthEncoding::NearFarLinear: return "near_far_linear";
         case DepthEncoding::NearFarInverse: return "near_far_inverse";
+        case DepthEncoding::Disparity: return "disparity";
     }
     return "?";
 }
 
 Result<DepthEncoding> parse_depth_encoding(const std::string& name) {
     for (DepthEncoding e : {DepthEncoding::Metric, DepthEncoding::Inverse, DepthEncoding::Scaled,
-                            DepthEncoding::NearFarLinear, DepthEncoding::NearFarInverse})
+                            DepthEncoding::NearFarLinear, DepthEncoding::NearFarInverse, DepthEncoding::Disparity})
         if (name == to_string(e)) return e;
     return Status::error("depth encoding: unknown \"" + name +
-                         "\" (expected metric, inverse, scaled, near_far_linear or near_far_inverse)");
+                             "\" (expected metric, inverse, scaled, near_far_linear, near_far_inverse or disparity)",
+                         StatusCode::InvalidArgument, "depth_encoding");
 }
 
 Status DepthDecode::validate() const {
+    auto bad = [](const std::string& what, const std::string& subject) {
+        return Status::error(what, StatusCode::InvalidArgument, subject);
+    };
     if (!(scale > 0) || !std::isfinite(scale))
-        return Status::error("depth scale: must be > 0 and finite, got " + std::to_string(scale));
+        return bad("depth scale: must be > 0 and finite, got " + std::to_string(scale), "depth_scale");
     if (encoding == DepthEncoding::NearFarLinear || encoding == DepthEncoding::NearFarInverse) {
         if (!(near > 0) || !std::isfinite(near))
-            return Status::error("depth near: must be > 0 and finite, got " + std::to_string(near));
+            return bad("depth near: must be > 0 and finite, got " + std::to_string(near), "depth_near");
         if (!(far > near) || (encoding == DepthEncoding::NearFarLinear && !std::isfinite(far)))
-            return Status::error("depth far: must be > near (" + std::to_string(near) + "), got " + std::to_string(far));
+            return bad("depth far: must be > near (" + std::to_string(near) + "), got " + std::to_string(far),
+                       "depth_far");
     }
     if (!(std::isnan(invalid) || (std::isinf(invalid) && invalid > 0)))
-        return Status::error("depth invalid: must be +inf or NaN, got " + std::to_string(invalid));
+        return bad("depth invalid: must be a hole (NaN) or sky (+inf), got " + std::to_string(invalid), "depth_invalid");
+    if (!(max_depth > 0))
+        return bad("depth max_depth: must be > 0, got " + std::to_string(max_depth), "depth_max");
+    if (invalid_value && std::isnan(*invalid_value))
+        return bad("depth invalid_value: must be a number (NaN is always invalid)", "depth_invalid_value");
+    if (!std::isnan(baseline)) {
+        if (!(baseline > 0) || !std::isfinite(baseline))
+            return bad("depth baseline: must be > 0 and finite, got " + std::to_string(baseline), "baseline");
+        if (encoding != DepthEncoding::Disparity)
+            return bad("depth baseline: only a disparity encoding takes a baseline", "baseline");
+        if (!(focal_px > 0) || !std::isfinite(focal_px))
+            return bad("depth baseline: a disparity with a baseline needs the camera's focal length in pixels",
+                       "focal_length_mm");
+    }
     return {};
 }
 
-double decode_depth(double v, const DepthDecode& d) {
-    if (std::isnan(v)) return d.invalid;
+Result<DepthDecode> resolve_depth_decode(const DepthDecode& d, const Camera& camera) {
+    DepthDecode r = d;
+    if (r.encoding == DepthEncoding::Disparity && !std::isnan(r.baseline)) {
+        if (camera.projection() != Projection::Perspective)
+            return Status::error("depth encoding disparity: needs a perspective camera", StatusCode::InvalidArgument,
+                                 "depth_encoding");
+        r.focal_px = camera.focal_length_px();
+    }
+    if (Status st = r.validate(); !st) return st;
+    return r;
+}
+
+namespace {
+
+double decode_raw(double v, const DepthDecode& d) {
     switch (d.encoding) {
         case DepthEncoding::Metric:
             if (v <= 0) return d.invalid;
@@ -61,8 +93,23 @@ double decode_depth(double v, const DepthDecode& d) {
             const double inv = 1.0 / d.near + t * (1.0 / d.far - 1.0 / d.near);
             return inv > 0 ? 1.0 / inv : std::numeric_limits<double>::infinity();
         }
+        case DepthEncoding::Disparity: {
+            if (!(v > 0) || std::isinf(v)) return d.invalid;
+            const double fb = std::isnan(d.baseline) ? d.scale : d.focal_px * d.baseline;
+            return fb / v;
+        }
     }
     return d.invalid;
+}
+
+}  // namespace
+
+double decode_depth(double v, const DepthDecode& d) {
+    if (std::isnan(v) || (d.invalid_value && v == *d.invalid_value)) return d.invalid;
+    const double z = decode_raw(v, d);
+    if (std::isnan(z) || z <= 0) return d.invalid;
+    if (std::isinf(z)) return z;  // explicit infinity: sky
+    return z > d.max_depth ? d.invalid : z;
 }
 
 void decode_depth(std::span<float> values, const DepthDecode& d) {

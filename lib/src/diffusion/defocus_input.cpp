@@ -12,6 +12,7 @@
 //                                          the largest blur radius of the image
 #include <array>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -68,6 +69,40 @@ struct InputChoice {
     InputKind kind = InputKind::DepthMap;
     int deep_part = -1;  // Deep: the first deep part
 };
+
+// A depth map in its own part (renderers' and stereo files' "depth" parts):
+// when exactly one flat part has colour (R, G, B, no layer groups) and no
+// depth, and another flat part without colour has the depth channel, the
+// plate with that depth attached (as `depth_channel`, default Z) in `out`.
+Result<bool> with_depth_part(const ImageSet& input, const PositionSource& source, ImageSet& out) {
+    int plate = -1, depth = -1, zc = -1;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+        if (input.is_deep(i)) return false;
+        const Image& img = input.flat(i);
+        const RgbaIndices ix = find_rgba(img);
+        auto z = find_depth_channel(img, source.depth_channel);
+        if (ix.r >= 0 && ix.g >= 0 && ix.b >= 0) {
+            if (plate >= 0 || !rgba_groups(img).empty() || (z && *z >= 0)) return false;
+            plate = int(i);
+        } else if (z && *z >= 0 && depth < 0) {
+            depth = int(i), zc = *z;
+        }
+    }
+    if (plate < 0 || depth < 0) return false;
+    Image merged = input.flat(std::size_t(plate));
+    const auto name = [&](int k) {
+        const std::string& n = input.part_name(std::size_t(k));
+        return n.empty() ? "part " + std::to_string(k) : "part '" + n + "'";
+    };
+    if (Status st = attach_depth(merged, input.flat(std::size_t(depth)), zc,
+                                 source.depth_channel.empty() ? std::string("Z") : source.depth_channel, name(plate),
+                                 name(depth));
+        !st)
+        return st.prefix("defocus");
+    out.parts.clear();
+    out.parts.emplace_back(std::move(merged));
+    return true;
+}
 
 InputChoice choose_input(const ImageSet& input) {
     for (std::size_t i = 0; i < input.size(); ++i)
@@ -158,8 +193,37 @@ Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& fiel
 
 // One flat RGBA + depth part -> layers_from_depth_map, extended by the
 // largest blur radius of the image.
+// The blur radius of every pixel of a plate at its prepared depth (pixel
+// centres), and of every mixed pixel's foreground (one per entry of pd.mixed).
+Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, std::vector<float>& r,
+                   std::vector<float>& rf, const Exec& exec) {
+    const Roi w = pd.window;
+    const int W = w.width();
+    r.assign(pd.depth.size(), 0.0f);
+    Status st = parallel_run(exec, w.height(), [&](long y0, long y1) {
+        std::vector<PixelDepth> px(static_cast<std::size_t>(W));
+        for (long yy = y0; yy < y1; ++yy) {
+            const std::size_t row = std::size_t(yy) * std::size_t(W);
+            for (int x = 0; x < W; ++x) px[std::size_t(x)] = {w.x0 + x + 0.5, w.y0 + yy + 0.5, pd.depth[row + std::size_t(x)]};
+            if (Status s = field.evaluate(camera, px, std::span<float>(r.data() + row, std::size_t(W))); !s) return s;
+        }
+        return Status::ok();
+    }, 8, "blur map");
+    if (!st) return st;
+    std::vector<PixelDepth> fg(pd.mixed.size());
+    for (std::size_t k = 0; k < pd.mixed.size(); ++k) {
+        const std::size_t i = pd.mixed[k].index;
+        fg[k] = {w.x0 + double(i % std::size_t(W)) + 0.5, w.y0 + double(i / std::size_t(W)) + 0.5, pd.mixed[k].fg_depth};
+    }
+    rf.assign(fg.size(), 0.0f);
+    return field.evaluate(camera, fg, rf);
+}
+
+// A plate: its depth decoded and cleaned (holes, speckles, mixed silhouette
+// pixels, plate.h), every sample's blur at its own depth, then the slices.
 Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& field, const Camera& camera,
-                                            const DefocusOptions& settings, const Exec& exec) {
+                                            const DefocusOptions& settings, const Exec& exec,
+                                            DepthCleanupStats& depth_stats) {
     const RgbaIndices rgba = find_rgba(flat);
     if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
         return Status::error("defocus: the input has no R, G, B channels (channels: " + channel_list(flat) + ")");
@@ -172,16 +236,22 @@ Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& 
                              (settings.source.depth_channel.empty() ? std::string("Z") : settings.source.depth_channel) +
                              "' (channels: " + channel_list(flat) + ")",
                              StatusCode::NotFound, "depth_channel");
+    auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, settings.cleanup, exec);
+    if (!pd) return pd.status().prefix("defocus");
+    depth_stats = pd->stats;
+    std::vector<float> r, rf;
+    if (Status st = plate_radii(field, camera, *pd, r, rf, exec); !st) return st.prefix("defocus: blur field");
     SliceOptions so;
     so.split = settings.split;
     so.source = settings.source;
-    std::vector<float> r(flat.npixels());
-    if (Status st = evaluate_blur_map(field, camera, flat, settings.source, ImageView::planar(r.data(), 1, flat.data_window()),
-                                      exec);
-        !st)
-        return st.prefix("defocus: blur field");
-    so.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
-    if (settings.split.blur_cuts == LayerSplit::BlurCuts::On) so.radius = r;
+    so.depth = &pd.value();
+    so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
+    // Plates are continuous (floors, tables): only cuts by blur let a blurred
+    // foreground spread over a sharp background, so they are on unless told not.
+    if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
+        so.radius = r;
+        so.fg_radius = rf;
+    }
     auto layers = layers_from_depth_map(flat, so, exec);
     if (!layers) return layers.status().prefix("defocus");
     return layers;
@@ -189,7 +259,8 @@ Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& 
 
 // The layers of an input by its kind; errors start with "defocus: ".
 Result<std::vector<Layer>> input_layers(const ImageSet& input, const InputChoice& choice, const BlurField& field,
-                                        const Camera& camera, const DefocusOptions& settings, const Exec& exec) {
+                                        const Camera& camera, const DefocusOptions& settings, const Exec& exec,
+                                        DepthCleanupStats& depth_stats) {
     switch (choice.kind) {
         case InputKind::Deep: return deep_layers(input.deep(std::size_t(choice.deep_part)), field, camera, settings, exec);
         case InputKind::Parts: {
@@ -199,7 +270,7 @@ Result<std::vector<Layer>> input_layers(const ImageSet& input, const InputChoice
         }
         case InputKind::DepthMap: break;
     }
-    return depth_map_layers(input.flat(0), field, camera, settings, exec);
+    return depth_map_layers(input.flat(0), field, camera, settings, exec, depth_stats);
 }
 
 // The channels of a single flat input carried to the output: all but its
@@ -266,11 +337,23 @@ Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* c
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
                          const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (input.empty()) return Status::error("defocus: the input has no image parts");
+    if (const std::vector<std::string> views = part_views(input); views.size() > 1) {
+        std::string list;
+        for (const std::string& v : views) list += (list.empty() ? "'" : ", '") + v + "'";
+        return Status::error("defocus: the input has " + std::to_string(views.size()) + " views (" + list +
+                                 "); defocus one view at a time (select_view)",
+                             StatusCode::InvalidArgument, "view");
+    }
+    ImageSet merged;
+    auto merge = with_depth_part(input, settings.source, merged);
+    if (!merge) return merge.status();
+    if (*merge) return defocus(merged, field, camera, settings, stats, exec);
     const InputChoice choice = choose_input(input);
     const OutputReference ref = output_reference(input, choice);
 
     const auto t0 = std::chrono::steady_clock::now();
-    Result<std::vector<Layer>> layers = input_layers(input, choice, field, camera, settings, exec);
+    DepthCleanupStats depth_stats;
+    Result<std::vector<Layer>> layers = input_layers(input, choice, field, camera, settings, exec, depth_stats);
     const double t_layers = seconds_since(t0);
     if (!layers) return layers.status();
     if (layers->empty()) return Status::error("defocus: the input gave no layers");
@@ -279,6 +362,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
     DefocusStats& S = stats ? *stats : local;
     auto out = defocus_layers(*layers, field, camera, settings, &S, exec);
     S.t_layers = t_layers;
+    S.depth = depth_stats;
     if (!out) return out.status();
 
     const bool single_flat = choice.kind != InputKind::Deep && input.size() == 1;

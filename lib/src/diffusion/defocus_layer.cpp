@@ -2,6 +2,7 @@
 // radius at each pixel's world position and the checks on those radii.
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "common/format_number.h"
 #include "diffusion/defocus_internal.h"
@@ -77,7 +78,11 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
     a.radius_from_alpha = any_alpha;
 
     a.radius.assign(img.npixels(), 0.0f);
-    if (Status st = evaluate_blur_map(field, camera, img, PositionSource{}, ImageView::planar(a.radius.data(), 1, win), exec); !st)
+    // A layer's Z is decoded already (layers.h): what is not a depth there
+    // (NaN, <= 0) is sky, as +inf is; holes were the input's to fill.
+    PositionSource layer_z;
+    layer_z.depth_decode.invalid = std::numeric_limits<double>::infinity();
+    if (Status st = evaluate_blur_map(field, camera, img, layer_z, ImageView::planar(a.radius.data(), 1, win), exec); !st)
         return st.prefix(where + ": blur field");
 
     const int zc = img.channel_index("Z");

@@ -16,6 +16,7 @@ std::string DefocusStats::report() const {
     o << "  max blur radius   " << max_radius_px << " px\n";
     o << "  pixels diffused   " << pixels_diffused << "\n";
     o << "  pixels skipped    " << pixels_skipped << "\n";
+    if (depth.pixels) o << "  " << depth.report() << "\n";
     o << std::setprecision(3);
     const std::pair<const char*, double> stages[] = {{"layers", t_layers},       {"blur map", t_blur},
                                                      {"extrapolate", t_extrapolate}, {"diffuse", t_diffuse},

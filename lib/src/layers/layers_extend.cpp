@@ -37,6 +37,9 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
     if (!(opt.extend_px >= 0.0) || std::isinf(opt.extend_px))
         return Status::error("layer extension: extend_px must be finite and >= 0, got " + std::to_string(opt.extend_px));
     if (frame.empty() || layers.size() < 2) return Status::ok();
+    if (!opt.owner.empty() && opt.owner.size() != frame.npixels())
+        return Status::error("layer extension: " + std::to_string(opt.owner.size()) + " owners for a frame of " +
+                             std::to_string(frame.npixels()) + " pixels");
     const int FW = frame.width();
     const std::size_t n = frame.npixels();
     const int nl = int(layers.size());
@@ -79,7 +82,10 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 for (int x = 0; x < ww; ++x) {
                     const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
                     const bool hidden = opt.occluder_alpha > 0.0f ? occ[i] >= opt.occluder_alpha : pres[i] != 0;
-                    if (hidden && !own[i] && (fills_frame || dist[wi] <= opt.extend_px)) {
+                    // The farthest layer still backs what its owner's reach misses (an
+                    // opaque plate stays opaque), but not what borders emptiness.
+                    const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
+                    if (hidden && !own[i] && allowed && (fills_frame || dist[wi] <= opt.extend_px)) {
                         ext[wi] = 1;
                         any = true;
                         box = unite(box, Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});

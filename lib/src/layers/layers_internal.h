@@ -45,6 +45,20 @@ constexpr double kAutoBlurLayers = 4.0;
 // `radius`: empty, or one blur radius per depth (Auto's blur cuts).
 DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius = {});
 
+// The pixels of nearer slices (slice[j] < s, owner[j] == s) that continue
+// slice s's surface (layers_from_depth_map): cont[j] = 1 for each, sized like
+// depth; returns their bounding box (absolute coordinates, `win` the
+// image's window).
+Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned char>& present,
+                     const std::vector<int>& slice, const std::vector<int>& owner, int s, int width, int height,
+                     const Roi& win, double continuity, int reach, std::vector<unsigned char>& cont);
+
+// Which slice continues or extends behind each pixel: among the slices behind
+// the pixel's nearest (front[i], -1: not present), the one whose own pixels
+// (own[k]: the pixels where slice k has a sample) are nearest; -1 where none.
+std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
+                                   int width, int height);
+
 // "depth 2.1-3.4"
 std::string depth_range_name(double near, double far);
 

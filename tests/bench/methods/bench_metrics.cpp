@@ -73,7 +73,7 @@ std::vector<char> discontinuity_mask(const float* z, int w, int h, int radius) {
 
 ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<char>& edge) {
     const Rgb a = rgb(result), b = rgb(truth);
-    double l1 = 0, l1b = 0, l2 = 0, l2b = 0, el1 = 0, el1b = 0;
+    double l1 = 0, l1b = 0, l2 = 0, l2b = 0, el1 = 0, el1b = 0, al1 = 0, al1b = 0;
     const std::size_t n = truth.npixels();
     for (std::size_t i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) {
@@ -82,6 +82,7 @@ ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<
             const double d = va - vb;
             l1 += std::fabs(d), l1b += std::fabs(vb), l2 += d * d, l2b += vb * vb;
             if (edge[i]) el1 += std::fabs(d), el1b += std::fabs(vb);
+            else al1 += std::fabs(d), al1b += std::fabs(vb);
         }
     ErrorMetrics m;
     m.rel_l1 = l1 / std::max(l1b, 1e-30);
@@ -89,6 +90,7 @@ ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<
     const double mse = l2 / double(3 * n);
     m.psnr = mse > 0 ? 10 * std::log10(1.0 / mse) : 99.0;
     m.edge_rel_l1 = el1 / std::max(el1b, 1e-30);
+    m.away_rel_l1 = al1 / std::max(al1b, 1e-30);
     m.ssim = mean_ssim(luminance_srgb(result), luminance_srgb(truth));
     return m;
 }

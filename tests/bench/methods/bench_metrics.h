@@ -16,6 +16,7 @@ struct ErrorMetrics {
     double rel_l2 = 0;    // sqrt(sum (a - b)^2 / sum b^2)
     double ssim = 0;      // mean SSIM of sRGB-encoded luminance clamped to [0, 1] (Gaussian window, sigma 1.5)
     double edge_rel_l1 = 0;  // rel_l1 restricted to the depth-discontinuity mask
+    double away_rel_l1 = 0;  // rel_l1 outside it (seams on continuous surfaces show here)
 };
 
 // Pixels within `radius` px of a depth discontinuity of `z` (a float plane

@@ -56,6 +56,57 @@ void check_round_trips(const Camera& cam, double tol = 1e-5) {
 
 }  // namespace
 
+// The camera built from lens flags for a plate: world = camera space, so
+// world +x is right and +y up in the image (the OpenEXR / RenderMan
+// worldToCamera convention, docs/camera.md), by hand-computed pixels.
+TEST(camera, FlagsCameraShowsWorldPlusXOnTheRight) {
+    LensOverrides ov;
+    ov.focal_length_mm = 50.0;
+    ov.sensor_width_mm = 36.0;
+    auto cam = resolve_camera(Metadata{}, Roi{0, 0, 1920, 1080}, ov);
+    ASSERT_TRUE(cam) << cam.message();
+    const double fpx = 50.0 / 36.0 * 1920.0;  // 2666.67
+    EXPECT_NEAR(cam->focal_length_px(), fpx, 1e-9);
+    // (0.5, 0, 2): 0.25 focal lengths right of the centre.
+    PixelDepth p = cam->project({0.5, 0.0, 2.0});
+    EXPECT_NEAR(p.x, 960.0 + fpx * 0.25, 1e-6);
+    EXPECT_NEAR(p.y, 540.0, 1e-6);
+    EXPECT_NEAR(p.depth, 2.0, 1e-12);
+    // (0, 0.3, 2): above the centre (pixel y grows downwards).
+    p = cam->project({0.0, 0.3, 2.0});
+    EXPECT_NEAR(p.x, 960.0, 1e-6);
+    EXPECT_NEAR(p.y, 540.0 - fpx * 0.15, 1e-6);
+    // Its worldToCamera is the identity.
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) EXPECT_NEAR(cam->world_to_camera().m[i][j], i == j ? 1.0 : 0.0, 1e-12);
+    // And unproject is the inverse: the right half of the image is +x.
+    const Vec3 w = cam->unproject(1500.0, 540.0, 3.0);
+    EXPECT_GT(w.x, 0.0);
+    EXPECT_NEAR(w.z, 3.0, 1e-12);
+}
+
+// A scene camera (right-handed world, as OBJ files and scene JSON): looking
+// down -z, world +x is on the right; looking down +z it is on the left.
+TEST(camera, RightHandedSceneCameraKeepsOBJConventions) {
+    CameraDesc d;
+    d.display_window = Roi{0, 0, 200, 100};
+    d.position = {0, 0, 5};
+    d.look_at = {0, 0, 0};
+    auto c = Camera::create(d);
+    ASSERT_TRUE(c);
+    EXPECT_GT(c->project({1, 0, 0}).x, 100.0);
+    EXPECT_LT(c->project({0, 1, 0}).y, 50.0);
+    d.position = {0, 0, -5};
+    c = Camera::create(d);
+    ASSERT_TRUE(c);
+    EXPECT_LT(c->project({1, 0, 0}).x, 100.0);
+    d.handedness = Handedness::Left;  // the same look in a left-handed world
+    c = Camera::create(d);
+    ASSERT_TRUE(c);
+    EXPECT_GT(c->project({1, 0, 0}).x, 100.0);
+    EXPECT_LT(c->project({0, 1, 0}).y, 50.0);
+}
+
 TEST(camera, HandProjectionLookingDownMinusZ) {
     // Camera at the origin looking down world -z, up +y: right is world +x.
     CameraDesc d;
@@ -291,19 +342,54 @@ TEST(camera, ExplicitDescErrors) {
 }
 
 TEST(camera, DepthEncodings) {
-    DepthDecode m;  // metric
+    DepthDecode m;  // metric; invalid values are holes (NaN) unless marked sky
     EXPECT_EQ(decode_depth(2.5, m), 2.5);
+    EXPECT_TRUE(std::isnan(decode_depth(0.0, m)));
+    EXPECT_TRUE(std::isinf(decode_depth(kInf, m)));  // an explicit infinity is sky
+    EXPECT_TRUE(std::isnan(decode_depth(std::nan(""), m)));
+    EXPECT_TRUE(std::isnan(decode_depth(-1.0, m)));
+    EXPECT_TRUE(std::isnan(decode_depth(-kInf, m)));
+    m.invalid = kInf;  // the user marks invalid as sky
     EXPECT_TRUE(std::isinf(decode_depth(0.0, m)));
-    EXPECT_TRUE(std::isinf(decode_depth(kInf, m)));
     EXPECT_TRUE(std::isinf(decode_depth(std::nan(""), m)));
     m.invalid = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_TRUE(std::isnan(decode_depth(-1.0, m)));
+    m.invalid_value = 65.0;  // a value the user names
+    EXPECT_TRUE(std::isnan(decode_depth(65.0, m)));
+    EXPECT_EQ(decode_depth(64.0, m), 64.0);
+    m.max_depth = 10.0;  // a sensor's range
+    EXPECT_TRUE(std::isnan(decode_depth(12.0, m)));
+    EXPECT_TRUE(std::isinf(decode_depth(kInf, m)));
+    m.max_depth = -1.0;
+    EXPECT_FALSE(m.validate());
+    EXPECT_EQ(m.validate().subject(), "depth_max");
 
     DepthDecode tum_raw{DepthEncoding::Scaled, 1.0 / 5000.0};
     EXPECT_NEAR(decode_depth(5000.0, tum_raw), 1.0, 1e-15);  // TUM: metres = counts / 5000
-    EXPECT_TRUE(std::isinf(decode_depth(0.0, tum_raw)));   // 0 = no measurement
+    EXPECT_TRUE(std::isnan(decode_depth(0.0, tum_raw)));   // 0 = no measurement: a hole, not sky
     DepthDecode tum_norm{DepthEncoding::Scaled, 65535.0 / 5000.0};
     EXPECT_NEAR(decode_depth(5000.0 / 65535.0, tum_norm), 1.0, 1e-12);  // normalised read
+
+    // Disparity: depth = f_px * baseline / d; 0 is unknown.
+    DepthDecode disp{DepthEncoding::Disparity, 700.0 * 0.1};  // scale = f_px * baseline
+    EXPECT_NEAR(decode_depth(35.0, disp), 2.0, 1e-12);
+    EXPECT_TRUE(std::isnan(decode_depth(0.0, disp)));
+    CameraDesc cd;
+    cd.display_window = Roi{0, 0, 1400, 800};
+    cd.focal_length_mm = 18.0;
+    cd.sensor_width_mm = 36.0;  // f_px = 700
+    cd.handedness = Handedness::Left;
+    const Camera cam = Camera::create(cd).value();
+    DepthDecode withb{DepthEncoding::Disparity};
+    withb.baseline = 0.1;
+    EXPECT_FALSE(withb.validate());  // needs the camera's focal length
+    auto resolved = resolve_depth_decode(withb, cam);
+    ASSERT_TRUE(resolved) << resolved.message();
+    EXPECT_NEAR(resolved->focal_px, 700.0, 1e-9);
+    EXPECT_NEAR(decode_depth(35.0, *resolved), 2.0, 1e-12);
+    DepthDecode mb;
+    mb.baseline = 0.1;
+    EXPECT_FALSE(resolve_depth_decode(mb, cam));  // a baseline only with disparity
+    EXPECT_EQ(*parse_depth_encoding("disparity"), DepthEncoding::Disparity);
 
     DepthDecode inv{DepthEncoding::Inverse, 1.0};
     EXPECT_NEAR(decode_depth(0.25, inv), 4.0, 1e-15);
@@ -333,7 +419,7 @@ TEST(camera, DepthEncodings) {
     std::vector<float> plane = {5000.f, 0.f, 10000.f};
     decode_depth(plane, tum_raw);
     EXPECT_FLOAT_EQ(plane[0], 1.f);
-    EXPECT_TRUE(std::isinf(plane[1]));
+    EXPECT_TRUE(std::isnan(plane[1]));
     EXPECT_FLOAT_EQ(plane[2], 2.f);
 }
 

@@ -173,7 +173,7 @@ TEST(layers_blur_cuts, DeepAndDepthMapAgreeAndRadiiMustMatchTheSamples) {
 // of the same continuous ground: its red must spread beside it as a blurred
 // bar does (the analytic fraction outside), for flat + Z and deep inputs.
 // With gaps only (one layer) the sharp ground insulates it. Deep inputs are
-// cut by blur by default, flat + Z when asked (LayerSplit::blur_cuts).
+// cut by blur by default, plates (flat + Z) too (LayerSplit::blur_cuts).
 TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface) {
     const double rp = radius_at(kPoleDepth);
     const double expected = gaussian_fraction_outside(kPole1 - kPole0, rp / 2.0);
@@ -194,12 +194,11 @@ TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface)
         else input.parts.emplace_back(pole_scene());
         DefocusOptions ds;
         DefocusStats stats;
-        if (!deep) {  // depth maps are cut by blur only when asked
-            auto plain = defocus(input, field, cam, ds, &stats);
-            ASSERT_TRUE(plain) << plain.message();
-            EXPECT_EQ(stats.layers, 1) << "flat + Z, default auto: gaps only";
-            ds.split.blur_cuts = LayerSplit::BlurCuts::On;
-        }
+        // Default auto cuts plates and deep inputs by blur alike. This
+        // ground recedes 11% in depth per pixel row: mixed-pixel splitting
+        // takes the ground beside the pole for silhouette pixels there (a
+        // known limit, docs/diffusion.md), so the layering is tested without it.
+        ds.cleanup.split_mixed = false;
         auto cut = defocus(input, field, cam, ds, &stats);
         ASSERT_TRUE(cut) << cut.message();
         EXPECT_GE(stats.layers, 3) << (deep ? "deep" : "flat");

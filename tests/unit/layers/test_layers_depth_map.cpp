@@ -154,7 +154,8 @@ TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
     const Image& far = (*r)[2].image;
     EXPECT_EQ((*r)[1].depth_near, 5.0);
     // Disc pixels (hidden behind the front slice): the middle slice covers
-    // those within 3 px of the box, opaquely, with the box's colour and depth.
+    // those within 3 px of the box and nearer to it than to the wall,
+    // opaquely, with the box's colour and depth.
     for (int y = kWin.y0; y < kWin.y1; ++y)
         for (int x = kWin.x0; x < kWin.x1; ++x) {
             if (!in_disc(x, y)) continue;
@@ -162,8 +163,14 @@ TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
             for (int by = 10; by < 22; ++by)
                 for (int bx = 34; bx < 46; ++bx)
                     if (!in_disc(bx, by)) d = std::min(d, std::hypot(double(x - bx), double(y - by)));
+            // Only the background seen nearest extends behind a pixel
+            // (layers.h): the box where it is nearer than the wall.
+            double dw = 1e9;
+            for (int wy = kWin.y0; wy < kWin.y1; ++wy)
+                for (int wx = kWin.x0; wx < kWin.x1; ++wx)
+                    if (!in_disc(wx, wy) && !in_box(wx, wy)) dw = std::min(dw, std::hypot(double(x - wx), double(y - wy)));
             const float a = at_or(mid, 3, x, y, 0.0f);
-            if (d <= 3.0) {
+            if (d <= 3.0 && d <= dw) {
                 ASSERT_EQ(a, 1.0f) << x << "," << y;
                 EXPECT_NEAR(mid.at(2, x, y), 0.9f, 1e-5f);
                 EXPECT_NEAR(mid.at(4, x, y), 5.0f, 1e-5f);

@@ -1,0 +1,122 @@
+// Live-action plates: a colour image and its depth map as they come from set
+// or from a sensor, made ready for generalized defocus (method 3).
+//
+// Sensor and stereo depth has holes (no measurement: value 0 in most uint16
+// maps, 19% of a TUM RGB-D frame), speckles (islands of a few pixels far from
+// the surface around them) and, like a renderer's filtered Z, pixels at a
+// silhouette whose depth lies between the foreground's and the background's
+// (anti-aliased or "flying" pixels). prepare_plate_depth decodes the depth
+// channel and repairs each, in the order a compositor would:
+//   1. decode (DepthDecode: encoding, invalid values -> holes, or sky when asked);
+//   2. speckles: islands of at most `speckle_px` pixels that no neighbour
+//      continues (depth ratio within `continuity`) become holes;
+//   3. holes are filled from their surroundings, guided by the plate: each
+//      hole pixel takes the colour-weighted median of the depths around it,
+//      filled from the hole's edge inwards, so a fill follows the plate's
+//      edges instead of blurring across a silhouette;
+//   4. mixed pixels: a pixel whose depth lies strictly between a nearer and
+//      a farther surface across a discontinuity is split into its two parts:
+//      the foreground's depth and share of the pixel (from where its depth
+//      lies between the two) and the background's depth, and its colour into
+//      the two surfaces' colours (each from the pure pixels of that surface
+//      around it, corrected so the parts composite back to the pixel). So a
+//      blurred foreground's edge is soft as the plate's anti-aliasing says,
+//      no ring of intermediate depth appears, and the background continued
+//      behind a foreground does not take the foreground's colour.
+// The focus tools read the prepared depth: the median depth in a small
+// window around a pixel (robust to noise and holes) and a probe of depth,
+// world position and blur at a pixel.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gdof/blur_field.h"
+#include "gdof/camera.h"
+#include "gdof/exec.h"
+#include "gdof/image.h"
+#include "gdof/status.h"
+
+namespace gdof {
+
+struct DepthCleanupOptions {
+    bool remove_speckles = true;
+    bool split_mixed = true;
+    // Neighbouring depths within this ratio belong to one surface; a larger
+    // step is a discontinuity (speckle islands, mixed pixels).
+    double continuity = 1.05;
+    // The largest island removed as a speckle, pixels; 0 = automatic:
+    // max(4, pixels / 250000) (4 at 1080p, 33 at 4K).
+    int speckle_px = 0;
+    // A mixed pixel lies between neighbours at least this ratio apart.
+    double mixed_step = 1.10;
+};
+
+struct DepthCleanupStats {
+    std::size_t pixels = 0;
+    std::size_t holes = 0;     // invalid after decoding (speckles not counted)
+    std::size_t speckles = 0;  // pixels of removed islands (then filled as holes)
+    std::size_t filled = 0;    // holes and speckles given a depth
+    std::size_t sky = 0;       // pixels at infinite depth
+    std::size_t mixed = 0;     // pixels split into foreground and background
+    std::string report() const;  // one line, for --stats
+};
+
+// A split silhouette pixel (step 4): `over` of the foreground part (colour
+// fg_rgb, premultiplied, scaled by fg_share) on the background part (bg_rgb)
+// gives the pixel's colour back.
+struct MixedPixel {
+    std::size_t index = 0;  // row-major over the window
+    float fg_depth = 0;     // the foreground's depth (the pixel's own, in `depth`, is the background's)
+    float fg_share = 0;     // the foreground's share of the pixel, in (0, 1)
+    float fg_rgb[3] = {0, 0, 0};
+    float bg_rgb[3] = {0, 0, 0};
+};
+
+// The prepared depth of a plate over its data window (row-major).
+struct PlateDepth {
+    Roi window;
+    // Metric depth along the viewing axis; +inf: sky. Every value is finite
+    // or +inf (holes are filled). A mixed pixel's is its background's.
+    std::vector<float> depth;
+    std::vector<MixedPixel> mixed;  // by increasing index
+    DepthCleanupStats stats;
+    bool has_mixed() const { return !mixed.empty(); }
+    // The split of pixel `index`, or nullptr when it is not mixed.
+    const MixedPixel* mixed_at(std::size_t index) const;
+};
+
+// Decodes channel `depth_channel` of `plate` (resolving a disparity decode
+// with the camera, converting range to depth when decode.range) and cleans
+// it; `plate`'s R, G, B guide the hole fill (none: the fill is unguided).
+// Errors: a bad decode (naming the setting), a channel out of range, a depth
+// channel with no valid value at all (nothing to fill from).
+Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                       const Camera& camera, const DepthCleanupOptions& options = {},
+                                       const Exec& exec = {});
+
+// The median of the finite depths in a (2 r + 1)^2 window around pixel (x, y)
+// (absolute coordinates), sky excluded; NaN when the window has none. A
+// focus distance picked from the picture: robust to noise, holes and edges.
+double depth_at(const PlateDepth& depth, int x, int y, int r = 2);
+
+// The focus distance a pixel asks for, straight from the plate (no whole-frame
+// preparation): channel `depth_channel` decoded in the (2 r + 1)^2 window
+// around (x, y) and depth_at's median of it; +inf for sky. Errors: a pixel
+// outside the data window, a window without one valid depth (naming both).
+Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                 const Camera& camera, int x, int y, int r = 2);
+
+// What a pixel of a plate is: its depth (depth_at), world position and blur.
+struct PixelProbe {
+    int x = 0, y = 0;
+    double depth = 0;       // NaN: no depth there; +inf: sky
+    Vec3 position;          // world position at the pixel centre (NaN when no finite depth)
+    double blur_px = 0;     // the field's blur radius there
+    bool mixed = false;     // a split silhouette pixel
+};
+Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
+                               int r = 2);
+
+}  // namespace gdof

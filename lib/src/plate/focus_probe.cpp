@@ -1,0 +1,89 @@
+// Focus from the picture: the depth at a pixel (a window's median, so noise,
+// holes and a silhouette next to the pixel do not move it) and a probe of
+// what the pipeline sees there.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "gdof/plate.h"
+
+namespace gdof {
+
+double depth_at(const PlateDepth& pd, int x, int y, int r) {
+    const Roi& w = pd.window;
+    std::vector<float> v;
+    bool sky = false;
+    for (int yy = std::max(w.y0, y - r); yy < std::min(w.y1, y + r + 1); ++yy)
+        for (int xx = std::max(w.x0, x - r); xx < std::min(w.x1, x + r + 1); ++xx) {
+            const float d = pd.depth[std::size_t(yy - w.y0) * std::size_t(w.width()) + std::size_t(xx - w.x0)];
+            if (std::isfinite(d)) v.push_back(d);
+            else if (std::isinf(d)) sky = true;
+        }
+    if (v.empty()) return sky ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+    const std::size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(m), v.end());
+    double med = v[m];
+    if (v.size() % 2 == 0) {  // the mean of the two middle values
+        const float lo = *std::max_element(v.begin(), v.begin() + std::ptrdiff_t(m));
+        med = 0.5 * (double(lo) + med);
+    }
+    return med;
+}
+
+Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                 const Camera& camera, int x, int y, int r) {
+    const std::string at = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+    if (!plate.data_window().contains(x, y))
+        return Status::error("focus at " + at + ": outside the image " + to_string(plate.data_window()),
+                             StatusCode::InvalidArgument, "focus_at");
+    if (depth_channel < 0 || depth_channel >= plate.nchannels())
+        return Status::error("focus at " + at + ": no depth channel", StatusCode::NotFound, "depth_channel");
+    if (plate.channel(depth_channel).type == PixelType::UInt)
+        return Status::error("focus at " + at + ": depth channel '" + plate.channel(depth_channel).name +
+                                 "' is not a float channel",
+                             StatusCode::InvalidArgument, "depth_channel");
+    auto dec = resolve_depth_decode(decode, camera);
+    if (!dec) return dec.status().prefix("focus at " + at);
+    // The window decoded as prepare_plate_depth decodes (holes stay NaN and
+    // drop out of the median).
+    PlateDepth pd;
+    pd.window = intersect(plate.data_window(), Roi{x - r, y - r, x + r + 1, y + r + 1});
+    for (int yy = pd.window.y0; yy < pd.window.y1; ++yy)
+        for (int xx = pd.window.x0; xx < pd.window.x1; ++xx) {
+            double z = decode_depth(plate.at(depth_channel, xx, yy), *dec);
+            if (dec->range && std::isfinite(z)) z /= length(camera.depth_line(xx + 0.5, yy + 0.5).per_depth);
+            pd.depth.push_back(float(z));
+        }
+    const double d = depth_at(pd, x, y, r);
+    if (std::isnan(d))
+        return Status::error("focus at " + at + ": no valid depth within " + std::to_string(r) + " px",
+                             StatusCode::NotFound, "focus_at");
+    return d;
+}
+
+Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const BlurField& field, int x, int y, int r) {
+    if (!pd.window.contains(x, y))
+        return Status::error("probe: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image " +
+                                 to_string(pd.window),
+                             StatusCode::InvalidArgument, "probe");
+    PixelProbe p;
+    p.x = x, p.y = y;
+    p.depth = depth_at(pd, x, y, r);
+    const std::size_t i = std::size_t(y - pd.window.y0) * std::size_t(pd.window.width()) + std::size_t(x - pd.window.x0);
+    p.mixed = pd.mixed_at(i) != nullptr;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    p.position = std::isfinite(p.depth) ? camera.unproject(x + 0.5, y + 0.5, p.depth) : Vec3{nan, nan, nan};
+    const PixelDepth s{x + 0.5, y + 0.5, p.depth};
+    float blur = 0;
+    if (std::isnan(p.depth)) {
+        p.blur_px = nan;
+    } else {
+        if (Status st = field.evaluate(camera, std::span<const PixelDepth>(&s, 1), std::span<float>(&blur, 1)); !st)
+            return st.prefix("probe");
+        p.blur_px = blur;
+    }
+    return p;
+}
+
+}  // namespace gdof

@@ -1,0 +1,178 @@
+// Holes in a depth map filled from their surroundings, guided by the plate.
+//
+// Hole pixels are visited in rings, from the hole's edge inwards (ring k:
+// 4-connected distance k to the nearest known pixel). A pixel of ring k
+// looks at the known depths (rings < k) in the 7x7 window around it, each
+// weighted by closeness and by how alike its colour is to the pixel's:
+//   1. which surface: the weighted median of those depths. A median picks
+//      one surface where the window straddles a silhouette (an average
+//      would invent a depth between them), and the colour weight makes the
+//      fill follow the plate's edges;
+//   2. where on it: a weighted least-squares plane through the inverse
+//      depths of that surface's pixels (those within kSameSurface of the
+//      median), evaluated at the pixel. Inverse depth is linear across the
+//      image for any plane in the world, so floors and walls are continued
+//      exactly, not flattened; a poorly conditioned fit falls back to the
+//      surface's weighted mean.
+// Rings are computed one after another, the pixels of a ring in parallel:
+// each reads only earlier rings, so the result does not depend on the
+// thread count.
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "plate/plate_internal.h"
+
+namespace gdof::plate_detail {
+
+namespace {
+
+constexpr int kWindow = 3;             // 7x7
+constexpr double kSpatialSigma = 2.0;  // px
+constexpr double kColourSigma = 0.05;  // in sqrt(colour)
+constexpr double kSameSurface = 1.10;  // depth ratio to the median: the same surface
+
+struct Candidate {
+    float depth;
+    double weight;
+    int dx, dy;
+};
+
+float weighted_median(std::vector<Candidate>& c) {
+    std::sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) { return a.depth < b.depth; });
+    double total = 0;
+    for (const Candidate& k : c) total += k.weight;
+    double acc = 0;
+    for (const Candidate& k : c) {
+        acc += k.weight;
+        if (acc >= 0.5 * total) return k.depth;
+    }
+    return c.back().depth;
+}
+
+// Step 2: the plane through the inverse depths of the median's surface.
+float continue_surface(const std::vector<Candidate>& c, float median) {
+    if (!std::isfinite(median)) return median;  // sky continues as sky
+    // Weighted sums for u = a + b dx + c dy over the surface's candidates.
+    double s[3][3] = {}, r[3] = {}, wsum = 0, umean = 0, umin = 1e300, umax = -1e300;
+    int count = 0;
+    for (const Candidate& k : c) {
+        if (!std::isfinite(k.depth)) continue;
+        const double hi = std::max(k.depth, median), lo = std::min(k.depth, median);
+        if (hi > lo * kSameSurface) continue;
+        const double u = 1.0 / k.depth, w = k.weight;
+        const double v[3] = {1.0, double(k.dx), double(k.dy)};
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) s[i][j] += w * v[i] * v[j];
+            r[i] += w * v[i] * u;
+        }
+        wsum += w, umean += w * u, umin = std::min(umin, u), umax = std::max(umax, u);
+        ++count;
+    }
+    if (count == 0 || !(wsum > 0)) return median;
+    umean /= wsum;
+    // Cramer's rule for a; conditioning relative to the weights' spread.
+    const double det = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1]) -
+                       s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0]) +
+                       s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0]);
+    const double scale = s[0][0] * s[1][1] * s[2][2];
+    if (count < 6 || !(std::abs(det) > 1e-3 * scale)) return float(1.0 / umean);
+    const double deta = r[0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1]) - s[0][1] * (r[1] * s[2][2] - s[1][2] * r[2]) +
+                        s[0][2] * (r[1] * s[2][1] - s[1][1] * r[2]);
+    double a = deta / det;
+    // Extrapolate, but never far beyond what the surface shows.
+    const double span = umax - umin;
+    a = std::clamp(a, std::max(umin - span, 0.5 * umin), umax + span);
+    return a > 0 ? float(1.0 / a) : float(1.0 / umean);
+}
+
+}  // namespace
+
+Guide make_guide(const Image& plate) {
+    Guide g;
+    const RgbaIndices ix = find_rgba(plate);
+    const int ch[3] = {ix.r, ix.g, ix.b};
+    for (int c : ch)
+        if (c < 0 || !plate.plane(c)) return g;
+    for (int k = 0; k < 3; ++k) {
+        const float* p = plate.plane(ch[k]);
+        g.c[k].resize(plate.npixels());
+        for (std::size_t i = 0; i < plate.npixels(); ++i)
+            g.c[k][i] = std::isfinite(p[i]) ? std::sqrt(std::clamp(p[i], 0.0f, 16.0f)) : 0.0f;
+    }
+    return g;
+}
+
+Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, const Exec& exec, std::size_t& filled) {
+    const std::size_t n = depth.size();
+    filled = 0;
+    // Rings by breadth-first search from the known pixels.
+    std::vector<int> ring(n, -1);
+    std::deque<int> queue;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isnan(depth[i])) {
+            ring[i] = 0;
+            queue.push_back(int(i));
+        }
+    if (queue.empty()) return Status::error("the depth map has no valid value to fill its holes from");
+    if (queue.size() == n) return Status::ok();
+    std::vector<std::vector<int>> rings(1);
+    while (!queue.empty()) {
+        const int i = queue.front();
+        queue.pop_front();
+        const int x = i % W, y = i / W;
+        const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+        for (const auto& o : nb) {
+            const int xx = x + o[0], yy = y + o[1];
+            if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+            const int j = yy * W + xx;
+            if (ring[std::size_t(j)] >= 0) continue;
+            const int r = ring[std::size_t(i)] + 1;
+            ring[std::size_t(j)] = r;
+            if (int(rings.size()) <= r) rings.resize(std::size_t(r) + 1);
+            rings[std::size_t(r)].push_back(j);
+            queue.push_back(j);
+        }
+    }
+    const double inv_s = 1.0 / (2 * kSpatialSigma * kSpatialSigma);
+    const double inv_c = 1.0 / (2 * kColourSigma * kColourSigma);
+    for (std::size_t r = 1; r < rings.size(); ++r) {
+        const std::vector<int>& pixels = rings[r];
+        Status st = parallel_run(exec, long(pixels.size()), [&](long b, long e) {
+            std::vector<Candidate> cand, sorted;
+            for (long k = b; k < e; ++k) {
+                const int i = pixels[std::size_t(k)];
+                const int x = i % W, y = i / W;
+                cand.clear();
+                for (int dy = -kWindow; dy <= kWindow; ++dy)
+                    for (int dx = -kWindow; dx <= kWindow; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+                        const int j = yy * W + xx;
+                        const int rj = ring[std::size_t(j)];
+                        if (rj < 0 || std::size_t(rj) >= r) continue;
+                        double w = std::exp(-(dx * dx + dy * dy) * inv_s);
+                        if (!guide.empty()) {
+                            double dc = 0;
+                            for (int c = 0; c < 3; ++c) {
+                                const double v = guide.c[c][std::size_t(i)] - guide.c[c][std::size_t(j)];
+                                dc += v * v;
+                            }
+                            w *= std::exp(-dc * inv_c) + 1e-6;  // never all zero
+                        }
+                        cand.push_back({depth[std::size_t(j)], w, dx, dy});
+                    }
+                // Ring r always has a 4-neighbour in ring r - 1.
+                sorted = cand;
+                depth[std::size_t(i)] = continue_surface(cand, weighted_median(sorted));
+            }
+            return Status::ok();
+        }, 256, "depth hole fill");
+        if (!st) return st;
+        filled += pixels.size();
+    }
+    return Status::ok();
+}
+
+}  // namespace gdof::plate_detail

@@ -1,0 +1,137 @@
+// Mixed pixels at silhouettes: a renderer's filtered Z (the mean depth of the
+// samples that hit) and a depth sensor's "flying pixels" put a silhouette
+// pixel at a depth between the foreground's and the background's, where no
+// surface is. Such a pixel is split: it keeps the background's depth, and
+// the foreground gets the share of the pixel that the depth's position
+// between the two says: share = (far - depth) / (far - near).
+//
+// Candidates are sandwiched: an adjacent pixel nearer and one farther than it
+// by more than `continuity` (a pixel of a sloping surface next to a
+// silhouette is continued by its own surface on one side). A candidate is
+// split when the pure surfaces around it -- the nearest and farthest depths
+// of the non-candidate pixels in its 7x7 window (a wide anti-aliasing filter
+// leaves ramps of mixed pixels, which must not count as a surface) -- span
+// at least `mixed_step` and it lies strictly between them.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "plate/plate_internal.h"
+
+namespace gdof::plate_detail {
+
+std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity) {
+    std::vector<unsigned char> cand(depth.size(), 0);
+    // 1 / depth at (x, y); NaN outside the image or without a finite depth.
+    auto inv = [&](int x, int y) {
+        if (x < 0 || x >= W || y < 0 || y >= H) return std::numeric_limits<double>::quiet_NaN();
+        const float q = depth[std::size_t(y) * std::size_t(W) + std::size_t(x)];
+        return std::isfinite(q) ? 1.0 / double(q) : std::numeric_limits<double>::quiet_NaN();
+    };
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const double d = inv(x, y);
+            if (std::isnan(d)) continue;
+            for (const auto& dir : dirs) {
+                // Along a line through the pixel: one side nearer, the other
+                // farther, each by more than `continuity` (sky and holes have
+                // no depth to mix with) ...
+                const double a = inv(x - dir[0], y - dir[1]), b = inv(x + dir[0], y + dir[1]);
+                if (std::isnan(a) || std::isnan(b)) continue;
+                const double hi = std::max(a, b), lo = std::min(a, b);
+                if (!(hi > d * continuity && d > lo * continuity)) continue;
+                // ... and the two sides much flatter than the jump: a step with
+                // one pixel between, not a surface receding steeply (a floor at
+                // a grazing angle, where 1/depth is a straight ramp).
+                const double a2 = inv(x - 2 * dir[0], y - 2 * dir[1]), b2 = inv(x + 2 * dir[0], y + 2 * dir[1]);
+                const double sa = std::isnan(a2) ? 0.0 : std::abs(a2 - a), sb = std::isnan(b2) ? 0.0 : std::abs(b2 - b);
+                if (sa + sb < 0.5 * (hi - lo)) {
+                    cand[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1;
+                    break;
+                }
+            }
+        }
+    return cand;
+}
+
+namespace {
+
+// The parts' colours: each surface's mean over its pure pixels in the
+// window, then both moved by the residual so that the parts composite back
+// exactly: share * fg + (1 - share) * bg = pixel.
+void unmix(MixedPixel& m, const float* const rgb[3], const float pixel[3], const double fg_sum[3], int fg_n,
+           const double bg_sum[3], int bg_n) {
+    for (int c = 0; c < 3; ++c) {
+        const double fg = fg_n ? fg_sum[c] / fg_n : pixel[c];
+        const double bg = bg_n ? bg_sum[c] / bg_n : pixel[c];
+        const double r = pixel[c] - (m.fg_share * fg + (1.0 - m.fg_share) * bg);
+        m.fg_rgb[c] = float(fg + r);
+        m.bg_rgb[c] = float(bg + r);
+        // No negative light: give the deficit to the other part.
+        if (m.fg_rgb[c] < 0) {
+            m.fg_rgb[c] = 0;
+            m.bg_rgb[c] = float(pixel[c] / (1.0 - m.fg_share));
+        } else if (m.bg_rgb[c] < 0) {
+            m.bg_rgb[c] = 0;
+            m.fg_rgb[c] = float(pixel[c] / m.fg_share);
+        }
+    }
+    (void)rgb;
+}
+
+}  // namespace
+
+std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector<unsigned char>& candidate, int W,
+                                    int H, double continuity, double mixed_step, const float* const rgb[3]) {
+    std::vector<MixedPixel> out;
+    const std::vector<float> d0 = depth;  // decisions read the unsplit depths
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+            const float d = d0[i];
+            if (!candidate[i] || !std::isfinite(d)) continue;
+            float near = std::numeric_limits<float>::infinity(), far = -near;
+            for (int dy = -3; dy <= 3; ++dy)
+                for (int dx = -3; dx <= 3; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                    const float q = d0[j];
+                    if (candidate[j] || !std::isfinite(q)) continue;
+                    near = std::min(near, q);
+                    far = std::max(far, q);
+                }
+            if (!(far >= near) || double(far) < double(near) * mixed_step) continue;
+            if (!(double(d) > double(near) * continuity && double(d) * continuity < double(far))) continue;
+            MixedPixel m;
+            m.index = i;
+            m.fg_depth = near;
+            m.fg_share = std::clamp((far - d) / (far - near), 0.0f, 1.0f);
+            const float pixel[3] = {rgb[0] ? rgb[0][i] : 0.f, rgb[1] ? rgb[1][i] : 0.f, rgb[2] ? rgb[2][i] : 0.f};
+            double fg_sum[3] = {0, 0, 0}, bg_sum[3] = {0, 0, 0};
+            int fg_n = 0, bg_n = 0;
+            if (rgb[0] && rgb[1] && rgb[2])
+                for (int dy = -3; dy <= 3; ++dy)
+                    for (int dx = -3; dx <= 3; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        const float q = d0[j];
+                        if (candidate[j] || !std::isfinite(q)) continue;
+                        const bool fg = double(q) <= double(near) * continuity, bg = double(q) * continuity >= double(far);
+                        if (!fg && !bg) continue;
+                        double* s = fg ? fg_sum : bg_sum;
+                        for (int c = 0; c < 3; ++c) s[c] += rgb[c][j];
+                        ++(fg ? fg_n : bg_n);
+                    }
+            if (rgb[0] && rgb[1] && rgb[2]) unmix(m, rgb, pixel, fg_sum, fg_n, bg_sum, bg_n);
+            else
+                for (int c = 0; c < 3; ++c) m.fg_rgb[c] = m.bg_rgb[c] = pixel[c];
+            depth[i] = far;
+            out.push_back(m);
+        }
+    return out;
+}
+
+}  // namespace gdof::plate_detail

@@ -1,0 +1,97 @@
+// prepare_plate_depth (plate.h): decode, remove speckles, fill holes, split
+// mixed silhouette pixels, count what was done.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "plate/plate_internal.h"
+
+namespace gdof {
+
+using namespace plate_detail;
+
+std::string DepthCleanupStats::report() const {
+    auto pct = [&](std::size_t v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.1f%%", pixels ? 100.0 * double(v) / double(pixels) : 0.0);
+        return std::string(b);
+    };
+    return "depth: " + std::to_string(holes) + " holes (" + pct(holes) + "), " + std::to_string(speckles) +
+           " speckle pixels, " + std::to_string(filled) + " filled, " + std::to_string(mixed) +
+           " mixed silhouette pixels split, " + std::to_string(sky) + " sky (" + pct(sky) + ")";
+}
+
+Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                       const Camera& camera, const DepthCleanupOptions& options, const Exec& exec) {
+    if (depth_channel < 0 || depth_channel >= plate.nchannels())
+        return Status::error("plate depth: channel index " + std::to_string(depth_channel) + " out of range",
+                             StatusCode::InvalidArgument, "depth_channel");
+    if (plate.channel(depth_channel).type == PixelType::UInt)
+        return Status::error("plate depth: channel '" + plate.channel(depth_channel).name + "' is not a float channel",
+                             StatusCode::InvalidArgument, "depth_channel");
+    if (!(options.continuity > 1.0) || !(options.continuity < 2.0))
+        return Status::error("plate depth: continuity must be in (1, 2), got " + std::to_string(options.continuity),
+                             StatusCode::InvalidArgument, "continuity");
+    if (!(options.mixed_step >= options.continuity) || !(options.mixed_step < 100.0))
+        return Status::error("plate depth: mixed_step must be in [continuity, 100), got " +
+                                 std::to_string(options.mixed_step),
+                             StatusCode::InvalidArgument, "mixed_step");
+    if (options.speckle_px < 0 || options.speckle_px > 100000)
+        return Status::error("plate depth: speckle_px must be in 0..100000, got " + std::to_string(options.speckle_px),
+                             StatusCode::InvalidArgument, "speckle_px");
+    auto dec = resolve_depth_decode(decode, camera);
+    if (!dec) return dec.status().prefix("depth channel '" + plate.channel(depth_channel).name + "'");
+
+    PlateDepth out;
+    const Roi win = plate.data_window();
+    out.window = win;
+    const int W = win.width(), H = win.height();
+    const std::size_t n = plate.npixels();
+    out.depth.resize(n);
+    out.stats.pixels = n;
+    const float* raw = plate.plane(depth_channel);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+            double z = decode_depth(raw[i], *dec);
+            if (dec->range && std::isfinite(z))
+                z /= length(camera.depth_line(win.x0 + x + 0.5, win.y0 + y + 0.5).per_depth);
+            out.depth[i] = float(z);
+            if (std::isnan(z)) ++out.stats.holes;
+        }
+    if (n == 0) return out;
+    if (out.stats.holes == n)
+        return Status::error("plate depth: channel '" + plate.channel(depth_channel).name +
+                                 "' has no valid depth (every value is invalid under the " + to_string(dec->encoding) +
+                                 " encoding)",
+                             StatusCode::InvalidArgument, "depth_encoding");
+    if (exec.is_cancelled()) return Status::cancelled("plate depth");
+
+    // Silhouette pixels between two surfaces are found first: they are small
+    // islands too, but not speckles.
+    const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity);
+    if (options.remove_speckles) {
+        const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
+        out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed);
+    }
+    if (Status st = fill_holes(out.depth, W, H, make_guide(plate), exec, out.stats.filled); !st)
+        return st.prefix("plate depth");
+    if (options.split_mixed) {
+        const RgbaIndices ix = find_rgba(plate);
+        const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
+                               ix.b >= 0 ? plate.plane(ix.b) : nullptr};
+        out.mixed = split_mixed(out.depth, mixed, W, H, options.continuity, options.mixed_step, rgb);
+        out.stats.mixed = out.mixed.size();
+    }
+    for (float d : out.depth)
+        if (std::isinf(d)) ++out.stats.sky;
+    return out;
+}
+
+const MixedPixel* PlateDepth::mixed_at(std::size_t index) const {
+    auto it = std::lower_bound(mixed.begin(), mixed.end(), index,
+                               [](const MixedPixel& m, std::size_t i) { return m.index < i; });
+    return it != mixed.end() && it->index == index ? &*it : nullptr;
+}
+
+}  // namespace gdof

@@ -1,0 +1,225 @@
+// Plate depth preparation (plate.h) against the true depth of generated
+// plates: holes filled, speckles removed without eating thin structures,
+// mixed silhouette pixels split into their true parts, and the focus tools.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "gdof/plate.h"
+
+namespace gdof {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+const Roi kWin{0, 0, kW, kH};
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+Camera flags_camera() {
+    LensOverrides ov;
+    ov.focal_length_mm = 35.0;
+    ov.sensor_width_mm = 36.0;
+    return resolve_camera(Metadata{}, kWin, ov).value();
+}
+
+// A red box at depth 1.5 in front of a textured green ground whose depth
+// grows from 2 (bottom row) to 10 (top row).
+bool in_box(int x, int y) { return x >= 60 && x < 100 && y >= 30 && y < 80; }
+double true_depth(int x, int y) {
+    if (in_box(x, y)) return 1.5;
+    const double t = double(kH - 1 - y) / (kH - 1);
+    return 1.0 / (0.5 + t * (0.1 - 0.5));
+}
+Image plate(const std::function<float(int, int)>& depth) {
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const bool box = in_box(x, y);
+            const bool check = ((x / 6) + (y / 6)) % 2 == 0;
+            img.at(0, x, y) = box ? 0.8f : 0.05f;
+            img.at(1, x, y) = box ? 0.1f : (check ? 0.5f : 0.3f);
+            img.at(2, x, y) = box ? 0.1f : 0.05f;
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = depth(x, y);
+        }
+    return img;
+}
+
+// Deterministic pseudo-random numbers.
+struct Lcg {
+    std::uint64_t s = 12345;
+    double next() {
+        s = s * 6364136223846793005ull + 1442695040888963407ull;
+        return double(s >> 11) * (1.0 / 9007199254740992.0);
+    }
+};
+
+float at(const PlateDepth& d, int x, int y) { return d.depth[std::size_t(y) * kW + std::size_t(x)]; }
+
+TEST(plate_depth, HolesAreFilledWithTheTrueDepthFollowingThePlatesEdges) {
+    // Holes: random discs (about 15% of the frame) and a band along the box's
+    // right silhouette, as a structured-light sensor leaves them.
+    std::vector<unsigned char> hole(std::size_t(kW) * kH, 0);
+    Lcg rng;
+    for (int k = 0; k < 60; ++k) {
+        const int cx = int(rng.next() * kW), cy = int(rng.next() * kH), r = 2 + int(rng.next() * 4);
+        for (int y = cy - r; y <= cy + r; ++y)
+            for (int x = cx - r; x <= cx + r; ++x)
+                if (x >= 0 && x < kW && y >= 0 && y < kH && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r)
+                    hole[std::size_t(y) * kW + std::size_t(x)] = 1;
+    }
+    for (int y = 30; y < 80; ++y)
+        for (int x = 97; x < 104; ++x) hole[std::size_t(y) * kW + std::size_t(x)] = 1;
+    std::size_t nholes = 0;
+    for (unsigned char h : hole) nholes += h;
+    ASSERT_GT(nholes, std::size_t(kW) * kH / 10);
+
+    // Stored as a TUM-style map: metres * 5000 in uint16 counts, 0 = no measurement.
+    const Image img = plate([&](int x, int y) {
+        return hole[std::size_t(y) * kW + std::size_t(x)] ? 0.0f : float(std::round(true_depth(x, y) * 5000.0));
+    });
+    DepthDecode dec{DepthEncoding::Scaled, 1.0 / 5000.0};
+    DepthCleanupOptions opt;
+    opt.split_mixed = false;
+    auto pd = prepare_plate_depth(img, 4, dec, flags_camera(), opt);
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_EQ(pd->stats.holes, nholes);
+    EXPECT_EQ(pd->stats.filled, nholes + pd->stats.speckles);
+    EXPECT_EQ(pd->stats.sky, 0u) << "holes are not sky";
+    std::vector<double> err;
+    std::size_t wrong_side = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            if (!hole[std::size_t(y) * kW + std::size_t(x)]) continue;
+            const double t = true_depth(x, y), d = at(*pd, x, y);
+            ASSERT_TRUE(std::isfinite(d)) << x << "," << y;
+            const double e = std::abs(d - t) / t;
+            err.push_back(e);
+            if (e > 0.2) ++wrong_side;  // box (1.5) for ground (>= 2) or the reverse
+        }
+    std::sort(err.begin(), err.end());
+    const double median = err[err.size() / 2], p95 = err[err.size() * 95 / 100];
+    std::printf("holes %zu: median rel error %.4f, 95th %.4f, wrong side of a silhouette %zu\n", err.size(), median,
+                p95, wrong_side);
+    EXPECT_LT(median, 0.01);
+    EXPECT_LT(p95, 0.05);
+    EXPECT_LE(wrong_side, err.size() / 100) << "the fill follows the plate's edges";
+}
+
+TEST(plate_depth, InvalidValuesAreSkyOnlyWhenMarked) {
+    Image img = plate([](int x, int y) { return (x < 10 && y < 10) ? 0.0f : float(true_depth(x, y)); });
+    DepthDecode dec;  // metric: 0 is invalid
+    auto holes = prepare_plate_depth(img, 4, dec, flags_camera());
+    ASSERT_TRUE(holes) << holes.message();
+    EXPECT_EQ(holes->stats.holes, 100u);
+    EXPECT_EQ(holes->stats.sky, 0u);
+    EXPECT_NEAR(at(*holes, 2, 2), true_depth(2, 2), 0.05 * true_depth(2, 2));
+    dec.invalid = std::numeric_limits<double>::infinity();
+    auto sky = prepare_plate_depth(img, 4, dec, flags_camera());
+    ASSERT_TRUE(sky) << sky.message();
+    EXPECT_EQ(sky->stats.sky, 100u);
+    EXPECT_TRUE(std::isinf(at(*sky, 2, 2)));
+    // Nothing valid at all: an error naming the channel.
+    Image none = plate([](int, int) { return 0.0f; });
+    auto bad = prepare_plate_depth(none, 4, DepthDecode{}, flags_camera());
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("'Z'"), std::string::npos) << bad.message();
+}
+
+TEST(plate_depth, SpecklesAreRemovedAndThinStructuresKept) {
+    // Isolated wrong pixels (1 and 2 px) on the ground, and a true pole one
+    // pixel wide at depth 1.2.
+    std::vector<std::pair<int, int>> specks;
+    Lcg rng;
+    for (int k = 0; k < 30; ++k) specks.push_back({5 + int(rng.next() * 50), 5 + int(rng.next() * 110)});
+    auto speck = [&](int x, int y) {
+        for (auto [sx, sy] : specks)
+            if (y == sy && (x == sx || (x == sx + 1 && sx % 2 == 0))) return true;
+        return false;
+    };
+    const Image img = plate([&](int x, int y) {
+        if (x == 130 && y >= 10 && y < 110) return 1.2f;
+        return speck(x, y) ? 0.7f : float(true_depth(x, y));
+    });
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_GE(pd->stats.speckles, specks.size());
+    for (auto [sx, sy] : specks)
+        EXPECT_NEAR(at(*pd, sx, sy), true_depth(sx, sy), 0.03 * true_depth(sx, sy)) << sx << "," << sy;
+    for (int y = 12; y < 108; ++y) EXPECT_FLOAT_EQ(at(*pd, 130, y), 1.2f) << "the pole stays, row " << y;
+}
+
+TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
+    // Foreground (depth 2) left of column 80, background (6) right of it;
+    // column 80 holds the renderer's mean depth of a pixel covered beta by
+    // the foreground, beta varying down the edge.
+    auto beta = [](int y) { return 0.1 + 0.8 * y / double(kH - 1); };
+    Image img = plate([&](int x, int y) {
+        if (x < 80) return 2.0f;
+        if (x > 80) return 6.0f;
+        return float(beta(y) * 2.0 + (1 - beta(y)) * 6.0);
+    });
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pd) << pd.message();
+    ASSERT_TRUE(pd->has_mixed());
+    std::size_t checked = 0;
+    for (int y = 0; y < kH; ++y) {
+        const double b = beta(y);
+        if (b < 0.15 || b > 0.85) continue;  // within 5% of a side: continuous with it
+        const std::size_t i = std::size_t(y) * kW + 80;
+        const MixedPixel* m = pd->mixed_at(i);
+        ASSERT_NE(m, nullptr) << y;
+        EXPECT_NEAR(m->fg_share, b, 0.02) << y;
+        EXPECT_FLOAT_EQ(m->fg_depth, 2.0f);
+        EXPECT_FLOAT_EQ(pd->depth[i], 6.0f);
+        // The parts' colours composite back to the pixel, each near its surface's.
+        const float pix[3] = {img.at(0, 80, y), img.at(1, 80, y), img.at(2, 80, y)};
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(m->fg_share * m->fg_rgb[c] + (1 - m->fg_share) * m->bg_rgb[c], pix[c], 1e-5) << y;
+        ++checked;
+    }
+    EXPECT_GT(checked, 80u);
+    for (int y = 0; y < kH; ++y)
+        for (int x : {78, 79, 81, 82}) EXPECT_EQ(pd->mixed_at(std::size_t(y) * kW + std::size_t(x)), nullptr);
+    // A continuous slope has no mixed pixel.
+    Image ramp = plate([](int x, int) { return float(2.0 + 0.05 * x); });
+    auto pr = prepare_plate_depth(ramp, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pr);
+    EXPECT_EQ(pr->stats.mixed, 0u);
+}
+
+TEST(plate_depth, FocusFromAPixelIsRobustToNoiseHolesAndEdges) {
+    Lcg rng;
+    const Image img = plate([&](int x, int y) {
+        if (x == 70 && y == 50) return 0.0f;  // a hole under the cursor
+        return float(true_depth(x, y) * (1.0 + 0.01 * (rng.next() - 0.5)));
+    });
+    const Camera cam = flags_camera();
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, cam);
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_NEAR(depth_at(*pd, 70, 50), 1.5, 0.01);
+    EXPECT_NEAR(depth_at(*pd, 60, 50), 1.5, 0.01) << "on the box's edge the median stays on the box";
+    EXPECT_NEAR(depth_at(*pd, 20, 100), true_depth(20, 100), 0.02 * true_depth(20, 100));
+    ThinLens lens;
+    lens.image_width_px = kW;
+    lens.focus_distance = 3.0;
+    auto field = BlurField::from_thin_lens(lens);
+    ASSERT_TRUE(field);
+    auto p = probe_pixel(*pd, cam, *field, 80, 40);
+    ASSERT_TRUE(p) << p.message();
+    EXPECT_NEAR(p->depth, 1.5, 0.01);
+    const Vec3 w = cam.unproject(80.5, 40.5, p->depth);
+    EXPECT_NEAR(p->position.x, w.x, 1e-9);
+    EXPECT_NEAR(p->position.z, p->depth, 1e-9);
+    EXPECT_GT(p->position.x, 0.0) << "right of the centre is +x";
+    EXPECT_NEAR(p->blur_px, lens.coc_radius_px(p->depth), 1e-3);
+    EXPECT_FALSE(probe_pixel(*pd, cam, *field, kW, 0));
+}
+
+}  // namespace
+}  // namespace gdof
