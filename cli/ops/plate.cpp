@@ -38,10 +38,10 @@ void do_depth(Frame& f, const std::string& path) {
     // --depth-channel names the channel in the depth file when it has one of
     // that name; else Z, else its first channel. It becomes the plate's
     // depth channel under the same name (default Z).
+    if (depth.nchannels() == 0) runtime_error("--depth: '" + path + "' has no channels");
     const std::string name = f.source.depth_channel.empty() ? std::string("Z") : f.source.depth_channel;
     int c = depth.channel_index(name);
     if (c < 0) c = 0;
-    if (depth.nchannels() == 0) runtime_error("--depth: '" + path + "' has no channels");
     Image& plate = flat_plate(top, "--depth");
     check(attach_depth(plate, depth, c, name, image_name(top), "'" + path + "'"), "--depth");
 }
