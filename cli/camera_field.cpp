@@ -22,7 +22,6 @@ Camera image_camera(const Frame& f, const ImageSet& set, std::size_t part, const
     const Roi display = set.is_deep(part) ? set.deep(part).display_window() : set.flat(part).display_window();
     Camera cam = part_camera(f, set.metadata(part), display, flag, where);
     if (!f.focus_at) return cam;
-    const auto [x, y] = *f.focus_at;
     // The part with the depth: this one, else the first flat one that has it.
     const Image* plate = nullptr;
     int zc = -1;
@@ -35,11 +34,17 @@ Camera image_camera(const Frame& f, const ImageSet& set, std::size_t part, const
     if (!plate)
         runtime_error("--focus-at: " + where + " has no flat part with a depth channel '" +
                       (f.source.depth_channel.empty() ? std::string("Z") : f.source.depth_channel) + "'");
-    auto d = focus_distance_at(*plate, zc, f.source.depth_decode, cam, x, y);
+    return focus_camera(f, set.metadata(part), display, *plate, zc, cam, where);
+}
+
+Camera focus_camera(const Frame& f, const Metadata& md, const Roi& display, const Image& plate, int zc,
+                    const Camera& camera, const std::string& where) {
+    const auto [x, y] = *f.focus_at;
+    auto d = focus_distance_at(plate, zc, f.source.depth_decode, camera, x, y);
     if (!d) runtime_error("--focus-at: " + where + ": " + message_naming_flag(d.status()));
     LensOverrides lens = f.lens;
     lens.focus_distance = *d;
-    auto focused = resolve_camera(set.metadata(part), display, lens);
+    auto focused = resolve_camera(md, display, lens);
     if (!focused) runtime_error("--focus-at: " + where + ": " + message_naming_flag(focused.status()));
     return std::move(focused).value();
 }

@@ -68,11 +68,11 @@ bool eval_blur_flat(Frame& f, Image& img, const std::string& where, std::vector<
             return false;
         }
     }
-    ImageSet one;  // the part as a set, for --focus-at's depth lookup
     Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
     if (f.focus_at) {
-        one.parts.emplace_back(img);
-        camera = image_camera(f, one, 0, "--eval-blur", where);
+        auto z = find_depth_channel(img, source.depth_channel);
+        if (!z || *z < 0) runtime_error("--focus-at: " + where + " has no depth channel '" + depth_channel_name(f) + "'");
+        camera = focus_camera(f, img.metadata, img.display_window(), img, *z, camera, where);
     }
     const BlurField field = field_for(f, camera, "--eval-blur", where);
     // Output channel: replaces an existing float "blur".

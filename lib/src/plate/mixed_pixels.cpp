@@ -91,17 +91,19 @@ std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector
             const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
             const float d = d0[i];
             if (!candidate[i] || !std::isfinite(d)) continue;
+            // The pure pixels (not candidates, finite depth) of the 7x7 window.
+            auto for_each_pure = [&](auto&& fn) {
+                for (int yy = std::max(0, y - 3); yy <= std::min(H - 1, y + 3); ++yy)
+                    for (int xx = std::max(0, x - 3); xx <= std::min(W - 1, x + 3); ++xx) {
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        if (!candidate[j] && std::isfinite(d0[j])) fn(j, d0[j]);
+                    }
+            };
             float near = std::numeric_limits<float>::infinity(), far = -near;
-            for (int dy = -3; dy <= 3; ++dy)
-                for (int dx = -3; dx <= 3; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                    const float q = d0[j];
-                    if (candidate[j] || !std::isfinite(q)) continue;
-                    near = std::min(near, q);
-                    far = std::max(far, q);
-                }
+            for_each_pure([&](std::size_t, float q) {
+                near = std::min(near, q);
+                far = std::max(far, q);
+            });
             if (!(far >= near) || double(far) < double(near) * mixed_step) continue;
             if (!(double(d) > double(near) * continuity && double(d) * continuity < double(far))) continue;
             MixedPixel m;
@@ -112,19 +114,13 @@ std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector
             double fg_sum[3] = {0, 0, 0}, bg_sum[3] = {0, 0, 0};
             int fg_n = 0, bg_n = 0;
             if (rgb[0] && rgb[1] && rgb[2])
-                for (int dy = -3; dy <= 3; ++dy)
-                    for (int dx = -3; dx <= 3; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                        const float q = d0[j];
-                        if (candidate[j] || !std::isfinite(q)) continue;
-                        const bool fg = double(q) <= double(near) * continuity, bg = double(q) * continuity >= double(far);
-                        if (!fg && !bg) continue;
-                        double* s = fg ? fg_sum : bg_sum;
-                        for (int c = 0; c < 3; ++c) s[c] += rgb[c][j];
-                        ++(fg ? fg_n : bg_n);
-                    }
+                for_each_pure([&](std::size_t j, float q) {
+                    const bool fg = double(q) <= double(near) * continuity, bg = double(q) * continuity >= double(far);
+                    if (!fg && !bg) return;
+                    double* s = fg ? fg_sum : bg_sum;
+                    for (int c = 0; c < 3; ++c) s[c] += rgb[c][j];
+                    ++(fg ? fg_n : bg_n);
+                });
             if (rgb[0] && rgb[1] && rgb[2]) unmix(m, rgb, pixel, fg_sum, fg_n, bg_sum, bg_n);
             else
                 for (int c = 0; c < 3; ++c) m.fg_rgb[c] = m.bg_rgb[c] = pixel[c];
