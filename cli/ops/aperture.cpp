@@ -16,14 +16,15 @@ Aperture parse(const Step& s) {
     return std::move(r).value();
 }
 
-void set_aperture(Frame& f, const Step& s) {
-    Aperture a = parse(s);
-    if (a.kind == Aperture::Kind::Image) {
+}  // namespace
+
+Aperture with_kernel_image(Frame& f, Aperture a, const std::string& context) {
+    if (a.kind == Aperture::Kind::Image && a.image.data_window().empty()) {
         io::ReadOptions ro;
         ro.colour = f.session->colour.get();
         auto r = io::read_image(a.image_path, ro);
-        if (!r) runtime_error(s.flag + ": " + r.message());
-        if (r->empty() || r->is_deep(0)) runtime_error(s.flag + ": '" + a.image_path + "' holds no flat image");
+        if (!r) runtime_error(context + ": " + r.message());
+        if (r->empty() || r->is_deep(0)) runtime_error(context + ": '" + a.image_path + "' holds no flat image");
         a.image = r->flat(0);
         // A colour kernel spreads by R, G, B; anything else by its first channel.
         const RgbaIndices c = find_rgba(a.image);
@@ -37,9 +38,17 @@ void set_aperture(Frame& f, const Step& s) {
             a.image = std::move(rgb);
         }
     }
-    check(validate(a), s.flag);
+    check(validate(a), context);
+    return a;
+}
+
+namespace {
+
+void set_aperture(Frame& f, const Step& s) {
+    Aperture a = with_kernel_image(f, parse(s), s.flag);
     f.defocus.aperture = a;
     f.render.options.aperture = std::move(a);
+    f.render.aperture_given = true;
 }
 
 }  // namespace

@@ -22,6 +22,8 @@
 #include <vector>
 
 #include "command.h"
+#include "frame.h"
+#include "gdof/aperture.h"
 #include "gdof/io/colour.h"
 
 namespace gdof::cli {
@@ -37,6 +39,9 @@ std::vector<Command> depth_source_commands();
 std::vector<Command> lens_commands();
 std::vector<Command> diffuse_commands();
 std::vector<Command> aperture_commands();
+// An aperture with its image kernel read (Kind::Image with only a path), or
+// as it is; errors name `context` (the flag, or the scene key).
+Aperture with_kernel_image(Frame& f, Aperture a, const std::string& context);
 std::vector<Command> plate_commands();
 std::vector<Command> composite_commands();
 std::vector<Command> lightfield_commands();

@@ -23,10 +23,13 @@ struct Level {
     int k = 0, w = 0, h = 0;  // grid 2^k coarser than the planes
     int nc = 0;               // channels incl. the weight (last)
     // Sources (k >= 1; level 0 reads the planes): per coarse cell the summed
-    // channels (weight = pixel count), the summed offsets of the pixels
-    // inside the block (full-resolution pixels) and the summed radii.
+    // channels (weight = pixel count), and the block's centre and radius
+    // weighted by each pixel's brightness (1 + the sum of its channels), so a
+    // highlight in a block stays where it was: offsets inside the block
+    // (full-resolution pixels) and radii, summed with those weights.
     std::vector<float> value;  // [c][cell]
-    std::vector<float> off_x, off_y, radius_sum;
+    std::vector<float> weight, off_x, off_y, radius_sum;
+    float max_radius = 0.0f;   // largest source radius (full-resolution pixels)
     // Accumulator: [c][row][w + 1] (the extra column takes span ends).
     std::vector<float> acc;
     std::size_t stride() const { return std::size_t(w) + 1; }
@@ -103,18 +106,17 @@ bool cats_eye_strip(const ApertureProfile& prof, const Source& s, double v0, dou
     return true;
 }
 
-void scatter_spans(Level& L, const Prepared& P, const Source& s) {
+void scatter_spans(Level& L, const Prepared& P, const Source& s, std::vector<RowSpan>& rows) {
     if (!(s.r > 1e-4)) {  // a point: all of it into its own cell
         const int x = std::clamp(int(std::floor(s.cx)), 0, L.w - 1), y = std::clamp(int(std::floor(s.cy)), 0, L.h - 1);
         add_span(L, y, s.val, double(x), double(x) + 1.0);
         return;
     }
     const ApertureProfile& prof = *P.profile;
-    RowSpan rows[128];
-    int n = 0;
+    rows.clear();
     double area = 0.0;
     const int y0 = int(std::floor(s.cy - s.r)), y1 = int(std::floor(s.cy + s.r));
-    for (int y = y0; y <= y1 && n < 128; ++y) {
+    for (int y = y0; y <= y1; ++y) {
         // Row y covers [y, y + 1): v = (cy - y') / r, v up.
         const double v0 = (s.cy - y - 1.0) / s.r, v1 = (s.cy - y) / s.r;
         double height, left, right;
@@ -124,12 +126,11 @@ void scatter_spans(Level& L, const Prepared& P, const Source& s) {
         const double h = height * s.r;  // of the row's unit height
         const RowSpan rs{y, h, s.cx + s.r * left, s.cx + s.r * right};
         area += h * (rs.b - rs.a);
-        if (y >= 0 && y < L.h) rows[n++] = rs;
-        else continue;
+        if (y >= 0 && y < L.h) rows.push_back(rs);
     }
     if (!(area > 0.0)) return;
     float val[kMaxChannels];
-    for (int i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
         const double f = rows[i].height / area;
         for (int c = 0; c < L.nc; ++c) val[c] = float(double(s.val[c]) * f);
         add_span(L, rows[i].y, val, rows[i].a, rows[i].b);
@@ -230,6 +231,7 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
         Level& L = levels[std::size_t(k)];
         const std::size_t cells = std::size_t(L.w) * std::size_t(L.h);
         L.value.assign(cells * std::size_t(nc), 0.0f);
+        L.weight.assign(cells, 0.0f);
         L.off_x.assign(cells, 0.0f);
         L.off_y.assign(cells, 0.0f);
         L.radius_sum.assign(cells, 0.0f);
@@ -241,27 +243,47 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
                         const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                         if (lvl[i] != k) continue;
                         const std::size_t cell = std::size_t(by) * std::size_t(L.w) + std::size_t(x >> k);
-                        for (int c = 0; c < nch; ++c) L.value[std::size_t(c) * cells + cell] += planes.at(c, win.x0 + x, win.y0 + y);
+                        float w = 1.0f;
+                        for (int c = 0; c < nch; ++c) {
+                            const float v = planes.at(c, win.x0 + x, win.y0 + y);
+                            L.value[std::size_t(c) * cells + cell] += v;
+                            w += std::abs(v);
+                        }
                         L.value[std::size_t(nch) * cells + cell] += 1.0f;
-                        L.off_x[cell] += float(x - ((x >> k) << k)) + 0.5f;
-                        L.off_y[cell] += float(y - by * B) + 0.5f;
-                        L.radius_sum[cell] += R[i];
+                        L.weight[cell] += w;
+                        L.off_x[cell] += w * (float(x - ((x >> k) << k)) + 0.5f);
+                        L.off_y[cell] += w * (float(y - by * B) + 0.5f);
+                        L.radius_sum[cell] += w * R[i];
                     }
         });
         if (!ok) return Status::cancelled("bokeh");
     }
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+            levels[lvl[i]].max_radius = std::max(levels[lvl[i]].max_radius, R[i]);
+        }
 
     // Scatter, level by level, in bands of source rows: even bands, then odd.
+    // Spans: every level's sources write full-resolution spans into level 0
+    // (a block only gathers the sources, so a disc keeps its sharp edge);
+    // kernels: each level into its own grid, upsampled afterwards.
+    levels[0].acc.assign(std::size_t(nc) * std::size_t(H) * levels[0].stride(), 0.0f);
     for (int k = 0; k <= top; ++k) {
         Level& L = levels[std::size_t(k)];
-        L.acc.assign(std::size_t(nc) * std::size_t(L.h) * L.stride(), 0.0f);
-        const int reach = P.spans ? 2 * T + 2 : P.kernel_reach + 1;
-        const int band = std::max(64, 2 * reach + 2);
+        Level& A = P.spans ? levels[0] : L;  // where its sources write
+        if (!P.spans && k > 0) A.acc.assign(std::size_t(nc) * std::size_t(L.h) * L.stride(), 0.0f);
+        // Bands (in the level's rows) tall enough that sources two bands
+        // apart never write the same row.
+        const int reach = P.spans ? int(std::ceil(L.max_radius)) + 2 : P.kernel_reach + 1;
+        const int band_rows = std::max(64, 2 * reach + 2);
+        const int band = P.spans ? std::max(1, (band_rows + (1 << k) - 1) >> k) : band_rows;
         const int nbands = (L.h + band - 1) / band;
-        const double scale = 1.0 / double(1 << k);
+        const double scale = P.spans ? 1.0 : 1.0 / double(1 << k);
         const std::size_t cells = std::size_t(L.w) * std::size_t(L.h);
         auto run_band = [&](int bi) {
             Source s;
+            std::vector<RowSpan> rows;
             for (int y = bi * band; y < std::min(L.h, (bi + 1) * band); ++y)
                 for (int x = 0; x < L.w; ++x) {
                     double full_x, full_y;
@@ -277,19 +299,19 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
                         full_y = s.cy;
                     } else {
                         const std::size_t cell = std::size_t(y) * std::size_t(L.w) + std::size_t(x);
-                        const float count = L.value[std::size_t(nch) * cells + cell];
-                        if (!(count > 0.0f)) continue;
+                        const float w = L.weight[cell];
+                        if (!(w > 0.0f)) continue;
                         for (int c = 0; c < nc; ++c) s.val[c] = L.value[std::size_t(c) * cells + cell];
-                        full_x = double(x << k) + L.off_x[cell] / count;
-                        full_y = double(y << k) + L.off_y[cell] / count;
+                        full_x = double(x << k) + double(L.off_x[cell]) / w;
+                        full_y = double(y << k) + double(L.off_y[cell]) / w;
                         s.cx = full_x * scale;
                         s.cy = full_y * scale;
-                        s.r = L.radius_sum[cell] / count * scale;
+                        s.r = double(L.radius_sum[cell]) / w * scale;
                     }
                     s.cats_eye = false;
                     set_cats_eye(P, F, win.x0 + full_x, win.y0 + full_y, s);
-                    if (P.spans) scatter_spans(L, P, s);
-                    else scatter_kernel(L, P, s, colour_channels);
+                    if (P.spans) scatter_spans(A, P, s, rows);
+                    else scatter_kernel(A, P, s, colour_channels);
                 }
         };
         for (int parity = 0; parity < 2; ++parity) {
@@ -300,23 +322,25 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
             if (!ok) return Status::cancelled("bokeh");
         }
         L.value = {};
+        L.weight = {};
         L.off_x = {};
         L.off_y = {};
         L.radius_sum = {};
-        if (P.spans) {  // difference rows -> the spans themselves
-            bool ok = parallel_for(exec, long(nc) * L.h, [&](long b, long e) {
+        if (P.spans && k == top) {  // difference rows -> the spans themselves
+            Level& Z = levels[0];
+            bool ok = parallel_for(exec, long(nc) * Z.h, [&](long b, long e) {
                 for (long j = b; j < e; ++j) {
-                    float* d = L.row(int(j / L.h), int(j % L.h));
+                    float* d = Z.row(int(j / Z.h), int(j % Z.h));
                     double sum = 0.0;
-                    for (int x = 0; x < L.w; ++x) d[x] = float(sum += d[x]);
+                    for (int x = 0; x < Z.w; ++x) d[x] = float(sum += d[x]);
                 }
             });
             if (!ok) return Status::cancelled("bokeh");
         }
     }
 
-    // Coarse levels into finer ones: bilinear, energy per cell / 4.
-    for (int k = top; k >= 1; --k) {
+    // Kernels: coarse levels into finer ones, bilinear, energy per cell / 4.
+    for (int k = P.spans ? 0 : top; k >= 1; --k) {
         Level& C = levels[std::size_t(k)];
         Level& Fn = levels[std::size_t(k) - 1];
         bool ok = parallel_for(exec, long(nc) * Fn.h, [&](long b, long e) {
