@@ -13,8 +13,9 @@ namespace gdof {
 namespace {
 
 constexpr int kRows = 2048;     // table rows over v in [-1, 1]
-constexpr int kScan = 1024;     // samples per row to find the edges
-constexpr int kRefine = 20;     // bisection steps per edge
+constexpr int kScan = 64;       // samples per row to find the edges (the shapes are convex)
+constexpr int kFineScan = 4096; // for a row thinner than that (near a vertex)
+constexpr int kRefine = 24;     // bisection steps per edge
 
 bool inside(const Aperture& a, double u, double v) { return aperture_detail::density(a, u, v, -1) > 0.0; }
 
@@ -56,14 +57,17 @@ Result<ApertureProfile> ApertureProfile::create(const Aperture& a) {
             l = first == 0 ? -1.0 : edge(a, v, -1.0 + (first - 1) * du, -1.0 + first * du);
             r = last == kScan ? 1.0 : edge(a, v, -1.0 + (last + 1) * du, -1.0 + last * du);
         } else {
-            // A row thinner than the scan step (a polygon's vertex): search
-            // near the middle once more at a finer step.
-            for (int k = 0; k <= 16 * kScan && !any; ++k) {
-                const double u = -1.0 + k * du / 16.0;
+            // A row thinner than the scan step (a polygon's vertex): once
+            // more at a finer step.
+            const double fine = 2.0 / kFineScan;
+            for (int k = 0; k <= kFineScan && !any; ++k) {
+                const double u = -1.0 + k * fine;
                 if (inside(a, u, v)) {
                     any = true;
-                    l = edge(a, v, u - du / 16.0, u);
-                    r = edge(a, v, u + du / 16.0, u);
+                    l = k == 0 ? -1.0 : edge(a, v, u - fine, u);
+                    double last = u;
+                    while (last + fine <= 1.0 && inside(a, last + fine, v)) last += fine;
+                    r = last + fine > 1.0 ? 1.0 : edge(a, v, last + fine, last);
                 }
             }
         }

@@ -6,6 +6,9 @@ namespace gdof {
 
 Result<BokehFilter> BokehFilter::create(const Aperture& aperture) {
     if (Status st = validate(aperture); !st) return st;
+    if (aperture.kind == Aperture::Kind::Image && aperture.cats_eye > 0.0)
+        return Status::error("aperture: cats_eye applies to disc and polygon apertures, not to an image kernel",
+                             StatusCode::InvalidArgument, "cats_eye");
     auto p = std::make_shared<Prepared>();
     p->aperture = aperture;
     if (aperture.kind != Aperture::Kind::Image) {

@@ -106,34 +106,59 @@ bool cats_eye_strip(const ApertureProfile& prof, const Source& s, double v0, dou
     return true;
 }
 
-void scatter_spans(Level& L, const Prepared& P, const Source& s, std::vector<RowSpan>& rows) {
-    if (!(s.r > 1e-4)) {  // a point: all of it into its own cell
-        const int x = std::clamp(int(std::floor(s.cx)), 0, L.w - 1), y = std::clamp(int(std::floor(s.cy)), 0, L.h - 1);
-        add_span(L, y, s.val, double(x), double(x) + 1.0);
-        return;
-    }
+// The rows of one shape, relative to its source's cell, kept while the next
+// sources have the same radius and sub-pixel position (a constant or slowly
+// varying blur: most neighbours), so the profile is looked up once per shape.
+struct ShapeRows {
+    bool valid = false;
+    double r = 0, fx = 0, fy = 0, area = 0;
+    std::vector<RowSpan> rows;  // y relative to floor(cy), a / b relative to floor(cx)
+};
+
+// Radii are quantised to 1/64 px for the shape (invisible, and neighbours
+// share their rows).
+constexpr double kRadiusStep = 1.0 / 64.0;
+
+void shape_rows(const Prepared& P, const Source& s, double r, double fx, double fy, ShapeRows& out) {
     const ApertureProfile& prof = *P.profile;
-    rows.clear();
-    double area = 0.0;
-    const int y0 = int(std::floor(s.cy - s.r)), y1 = int(std::floor(s.cy + s.r));
+    out.rows.clear();
+    out.area = 0.0;
+    out.r = r, out.fx = fx, out.fy = fy;
+    out.valid = !s.cats_eye;
+    const int y0 = int(std::floor(fy - r)), y1 = int(std::floor(fy + r));
     for (int y = y0; y <= y1; ++y) {
         // Row y covers [y, y + 1): v = (cy - y') / r, v up.
-        const double v0 = (s.cy - y - 1.0) / s.r, v1 = (s.cy - y) / s.r;
+        const double v0 = (fy - y - 1.0) / r, v1 = (fy - y) / r;
         double height, left, right;
         const bool hit = s.cats_eye ? cats_eye_strip(prof, s, v0, v1, height, left, right)
                                     : prof.strip(v0, v1, height, left, right);
         if (!hit) continue;
-        const double h = height * s.r;  // of the row's unit height
-        const RowSpan rs{y, h, s.cx + s.r * left, s.cx + s.r * right};
-        area += h * (rs.b - rs.a);
-        if (y >= 0 && y < L.h) rows.push_back(rs);
+        const double h = height * r;  // of the row's unit height
+        const RowSpan rs{y, h, fx + r * left, fx + r * right};
+        out.area += h * (rs.b - rs.a);
+        out.rows.push_back(rs);
     }
-    if (!(area > 0.0)) return;
+}
+
+void scatter_spans(Level& L, const Prepared& P, const Source& s, ShapeRows& memo) {
+    const double r = std::round(s.r / kRadiusStep) * kRadiusStep;
+    const double xb = std::floor(s.cx), yb = std::floor(s.cy);
+    if (!(r > 1e-4)) {  // a point: all of it into its own cell
+        const int x = std::clamp(int(xb), 0, L.w - 1), y = std::clamp(int(yb), 0, L.h - 1);
+        add_span(L, y, s.val, double(x), double(x) + 1.0);
+        return;
+    }
+    const double fx = s.cx - xb, fy = s.cy - yb;
+    if (s.cats_eye || !memo.valid || memo.r != r || memo.fx != fx || memo.fy != fy) shape_rows(P, s, r, fx, fy, memo);
+    if (!(memo.area > 0.0)) return;
     float val[kMaxChannels];
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const double f = rows[i].height / area;
+    const int yi = int(yb);
+    for (const RowSpan& rs : memo.rows) {
+        const int y = yi + rs.y;
+        if (y < 0 || y >= L.h) continue;
+        const double f = rs.height / memo.area;
         for (int c = 0; c < L.nc; ++c) val[c] = float(double(s.val[c]) * f);
-        add_span(L, rows[i].y, val, rows[i].a, rows[i].b);
+        add_span(L, y, val, xb + rs.a, xb + rs.b);
     }
 }
 
@@ -283,7 +308,7 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
         const std::size_t cells = std::size_t(L.w) * std::size_t(L.h);
         auto run_band = [&](int bi) {
             Source s;
-            std::vector<RowSpan> rows;
+            ShapeRows rows;
             for (int y = bi * band; y < std::min(L.h, (bi + 1) * band); ++y)
                 for (int x = 0; x < L.w; ++x) {
                     double full_x, full_y;
