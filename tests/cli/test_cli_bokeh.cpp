@@ -155,6 +155,12 @@ TEST(cli_bokeh, bad_apertures_are_clear_errors) {
         EXPECT_TRUE(contains(r.output, "--aperture")) << c.args << "\n" << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
     }
+    // --layers applies to --bokeh too; alone it is a usage error naming both.
+    auto l = run_gdof(in + "--layers 2 --bokeh -o " + quote(dir.file("l.exr")));
+    EXPECT_EQ(l.exit_code, 0) << l.output;
+    l = run_gdof(in + "--layers 2 -o " + quote(dir.file("l2.exr")));
+    EXPECT_EQ(l.exit_code, 2) << l.output;
+    EXPECT_TRUE(contains(l.output, "--layers: no --diffuse or --bokeh follows it")) << l.output;
     // An all-black image kernel.
     write_exr(dir.file("black.exr"), 8, 8, {"R", "G", "B"}, [](int, int, int) { return 0.0f; });
     auto r = run_gdof(in + "--aperture image:" + quote(dir.file("black.exr")) + " --bokeh -o " + quote(dir.file("o.exr")));

@@ -358,10 +358,14 @@ struct ScaleError {
     double mean = 0, p99 = 0, max = 0;
 };
 
-ScaleError half_scale_error(const std::string& depth_filter) {
+ScaleError half_scale_error(const std::string& depth_filter, const std::string& aperture = "") {
     Fixture f;
     if (!f.s.ok()) return {1e9, 1e9, 1e9};
     set_planes(*f.s.fx);
+    if (!aperture.empty()) {  // the bokeh filter: the kernel scales with the blur
+        f.s.fx->set_choice("filter", "bokeh");
+        f.s.fx->set_choice("aperture", aperture);
+    }
     f.s.fx->set_int("layers", 3);  // a split that does not depend on the resolution
     ClipFrame depth = plate_clip(f.plate, "depth");
     depth.filter = depth_filter;
@@ -385,8 +389,8 @@ ScaleError half_scale_error(const std::string& depth_filter) {
     e.mean /= double(all.size());
     e.p99 = all[all.size() * 99 / 100];
     e.max = all.back();
-    std::printf("scale 0.5 vs full reduced 2x2 (depth reduced by %s): mean |diff| %.4f, 99th percentile %.4f, max %.4f\n",
-                depth_filter.c_str(), e.mean, e.p99, e.max);
+    std::printf("scale 0.5 vs full reduced 2x2 (depth reduced by %s%s): mean |diff| %.4f, 99th percentile %.4f, max %.4f\n",
+                depth_filter.c_str(), aperture.empty() ? "" : (", bokeh " + aperture).c_str(), e.mean, e.p99, e.max);
     return e;
 }
 
@@ -401,6 +405,11 @@ TEST(ofx_defocus, HalfScaleEqualsTheFullRenderReducedWithinTolerance) {
     EXPECT_LE(nearest.mean, 0.01);
     EXPECT_LE(nearest.p99, 0.15);
     EXPECT_LE(nearest.max, 0.45);
+    // The bokeh filter's aperture scales with the render scale too.
+    const ScaleError hex = half_scale_error("box", "polygon");
+    EXPECT_LE(hex.mean, 0.01);
+    EXPECT_LE(hex.p99, 0.15);
+    EXPECT_LE(hex.max, 0.45);
 }
 
 TEST(ofx_defocus, UnpremultipliedSourceIsPremultipliedAndOutputDeclaredPremultiplied) {

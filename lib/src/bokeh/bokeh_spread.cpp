@@ -79,9 +79,16 @@ struct RowSpan {
 };
 
 // The shape's edges over the strip v in [v0, v1] for a cat's-eye source:
-// the profile's row cut by the displaced disc, sampled at four heights.
+// the profile's row cut by the displaced disc, sampled at four heights. The
+// cut shape is moved back by half the displacement (the middle of the two
+// discs), so its centre stays on its source: neighbours' shapes then overlap
+// evenly and the spread weight stays close to 1 (no drift of light
+// outward, which the normalisation would turn into a brightness error).
 bool cats_eye_strip(const ApertureProfile& prof, const Source& s, double v0, double v1, double& height, double& left,
                     double& right) {
+    const double su = 0.5 * s.ou, sv = 0.5 * s.ov;
+    v0 += sv;
+    v1 += sv;
     const double lo = std::max({v0, -1.0, s.ov - 1.0}), hi = std::min({v1, 1.0, s.ov + 1.0});
     if (!(hi > lo)) return false;
     constexpr int M = 4;
@@ -101,8 +108,8 @@ bool cats_eye_strip(const ApertureProfile& prof, const Source& s, double v0, dou
     }
     if (n == 0) return false;
     height = (hi - lo) * n / M;
-    left = sl / n;
-    right = sr / n;
+    left = sl / n - su;
+    right = sr / n - su;
     return true;
 }
 

@@ -228,6 +228,78 @@ TEST(bokeh, VaryingBlurKeepsEnergyAndIsThreadCountIndependent) {
     }
 }
 
+// Position-dependent and anamorphic shapes: squeeze 2 halves the width; the
+// cat's eye leaves the centre of the frame a disc and, towards a corner,
+// narrows the shape along the direction to the centre (radially) while
+// keeping it tangentially; energy is kept in both.
+TEST(bokeh, SqueezeAndCatsEye) {
+    const double R = 12.0;
+    auto widths = [&](const Psf& p, int cx, int cy, double dir_deg) {
+        // Extent (half of the plateau) along a direction and across it.
+        double peak = 0;
+        for (int y = cy - 2; y <= cy + 2; ++y)
+            for (int x = cx - 2; x <= cx + 2; ++x) peak = std::max(peak, double(p.at(0, x, y)));
+        auto extent = [&](double deg) {
+            const double a = deg * std::numbers::pi / 180.0;
+            double r = 0;
+            for (double t = -30; t <= 30; t += 0.1) {
+                const double px = cx + 0.5 + t * std::cos(a), py = cy + 0.5 - t * std::sin(a);
+                if (px < 0 || py < 0 || px >= p.size || py >= p.size) continue;
+                if (p.at(0, int(px), int(py)) >= 0.5 * peak) r = std::max(r, std::abs(t));
+            }
+            return r;
+        };
+        return std::pair{extent(dir_deg), extent(dir_deg + 90.0)};
+    };
+    Aperture squeezed;
+    squeezed.squeeze = 2.0;
+    const Psf sq = point_spread(squeezed, R, 81);
+    // Second moments of an ellipse: var_x / var_y = (1 / squeeze)^2.
+    double sxx = 0, syy = 0;
+    for (int y = 0; y < sq.size; ++y)
+        for (int x = 0; x < sq.size; ++x) {
+            const double v = sq.at(0, x, y);
+            sxx += v * (x - 40) * (x - 40);
+            syy += v * (y - 40) * (y - 40);
+        }
+    EXPECT_NEAR(sxx / syy, 0.25, 0.02);
+
+    // A point near the top-left corner of a 201 x 201 frame.
+    Aperture cats;
+    cats.cats_eye = 0.8;
+    auto f = BokehFilter::create(cats);
+    ASSERT_TRUE(f);
+    const int size = 201;
+    const std::size_t n = std::size_t(size) * size;
+    for (const auto& [px, py] : {std::pair{100, 100}, std::pair{25, 25}}) {
+        Psf p;
+        p.size = size;
+        p.planes.assign(4 * n, 0.0f);
+        p.planes[std::size_t(py) * size + std::size_t(px)] = 1000.0f;
+        std::fill(p.planes.begin() + std::ptrdiff_t(3 * n), p.planes.end(), 1.0f);
+        std::vector<float> radius(n, float(R));
+        const Roi win{0, 0, size, size};
+        ASSERT_TRUE(spread_planes(ImageView::planar(p.planes.data(), 4, win), ConstImageView::planar(radius.data(), 1, win), *f, win));
+        double total = 0;
+        for (std::size_t i = 0; i < n; ++i) total += p.planes[i];
+        // Neighbours' shapes differ, so the spread weight is not exactly 1:
+        // a few percent (docs/bokeh.md); a constant image stays constant.
+        EXPECT_NEAR(total, 1000.0, 50.0);
+        double amin = 2, amax = 0;
+        for (std::size_t i = 0; i < n; ++i) amin = std::min(amin, double(p.planes[3 * n + i])), amax = std::max(amax, double(p.planes[3 * n + i]));
+        EXPECT_NEAR(amin, 1.0, 1e-4);
+        EXPECT_NEAR(amax, 1.0, 1e-4);
+        const auto [radial, tangential] = widths(p, px, py, 135.0);  // towards the centre from the top-left
+        if (px == 100) {
+            EXPECT_NEAR(radial / tangential, 1.0, 0.05) << "the centre keeps the disc";
+        } else {
+            // rho = 0.75 * sqrt(2) / sqrt(2) of the half diagonal: offset 0.8 * 0.75 = 0.6 of R.
+            EXPECT_LT(radial / tangential, 0.85) << radial << " x " << tangential;
+            EXPECT_NEAR(tangential, R, 1.5);
+        }
+    }
+}
+
 TEST(bokeh, BadRadiiAndShapesAreErrors) {
     const Roi win{0, 0, 8, 8};
     std::vector<float> planes(4 * 64, 0.0f), radius(64, 1.0f);
