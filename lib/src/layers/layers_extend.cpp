@@ -15,14 +15,6 @@ using namespace layers_detail;
 
 namespace {
 
-// The continuation averages colour in a space where HDR values are
-// compressed (above 1: 2 - 1/c, below unchanged), so a highlight beside the
-// hidden region does not flood it with its light (a lamp next to a pole
-// would otherwise glow behind the pole and show through the pole's blurred
-// edge); ordinary colours (<= 1) average exactly as before.
-float compress_hdr(float c) { return c > 1.0f ? 2.0f - 1.0f / c : c; }
-float expand_hdr(float c) { return c > 1.0f ? 1.0f / std::max(2.0f - c, 1e-6f) : c; }
-
 // Own coverage of a layer over the frame: A > 0 or any colour != 0.
 void coverage(const Image& img, const Roi& frame, std::vector<float>& alpha, std::vector<unsigned char>& own) {
     const std::size_t n = frame.npixels();
@@ -114,7 +106,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                         if (!own[i] || !(alpha[i] > 0.0f)) continue;
                         const float al = alpha[i];
                         wcol[wi] = al;
-                        for (int c = 0; c < 3; ++c) fill[std::size_t(c)][wi] = compress_hdr(src.at(c, ax, ay) / src.at(3, ax, ay));
+                        for (int c = 0; c < 3; ++c) fill[std::size_t(c)][wi] = src.at(c, ax, ay) / src.at(3, ax, ay);
                         bool geo = std::isfinite(src.at(4, ax, ay));
                         for (int k = 0; has_p && k < 3; ++k) geo = geo && std::isfinite(src.at(5 + k, ax, ay));
                         if (geo) {
@@ -146,7 +138,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                         const std::size_t wi = std::size_t(y) * ww + x;
                         if (!ext[wi]) continue;
                         const int ax = work.x0 + x, ay = work.y0 + y;
-                        for (int c = 0; c < 3; ++c) out.at(c, ax, ay) = have_colour ? expand_hdr(fill[std::size_t(c)][wi]) : 0.0f;
+                        for (int c = 0; c < 3; ++c) out.at(c, ax, ay) = have_colour ? fill[std::size_t(c)][wi] : 0.0f;
                         out.at(3, ax, ay) = 1.0f;
                         out.at(4, ax, ay) = have_depth ? fill[3][wi] : float(kInf);
                         for (int k = 0; has_p && k < 3; ++k) out.at(5 + k, ax, ay) = have_depth ? fill[std::size_t(4 + k)][wi] : kNaN;
