@@ -50,6 +50,7 @@ struct PendingRender {
     std::string scene;      // pending --render ("" none)
     RenderOptions options;  // --spp, --min-spp, ..., --aovs=LIST; the blur field is set when it runs
     bool deep = false;      // --deep: a deep image (for method 3)
+    bool aperture_given = false;  // --aperture (else the scene camera's aperture)
     std::string stack_spec; // --stack after --render: the next -o writes a stack
     bool pending() const { return !scene.empty(); }
 };

@@ -48,6 +48,7 @@ void validate_structure(const Program& p) {
     int depth = 0;
     bool pending_iscs = false;
     std::string pending_diffuse;  // a --diffuse modifier not yet followed by --diffuse
+    std::string pending_layers;   // --layers not yet followed by --diffuse or --bokeh
     bool any_work = false;
     bool composite = false;
     std::string composite_option;  // a --composite option (valid only with --composite)
@@ -73,14 +74,18 @@ void validate_structure(const Program& p) {
             composite_option = s.flag;
         if (n == "--deep" && !after_render) usage_error(s.flag + ": a --render option: give it after --render");
         if (n == "--iscolorspace") pending_iscs = true;
-        if (n == "--solver" || n == "--layers" || n == "--adi-steps") pending_diffuse = s.flag;
+        if (n == "--solver" || n == "--adi-steps") pending_diffuse = s.flag;
+        if (n == "--layers") pending_layers = s.flag;
         if (n == "--diffuse") pending_diffuse.clear();
+        if (n == "--diffuse" || n == "--bokeh") pending_layers.clear();
     }
     if (!composite_option.empty() && !composite)
         usage_error(composite_option + ": only used with --composite (none given)");
     if (pending_iscs) usage_error("--iscolorspace: no input file follows it");
     if (!pending_diffuse.empty())
         usage_error(pending_diffuse + ": no --diffuse follows it (modifiers apply to the commands after them)");
+    if (!pending_layers.empty())
+        usage_error(pending_layers + ": no --diffuse or --bokeh follows it (modifiers apply to the commands after them)");
     if (!any_work) usage_error("nothing to do: give an input file or a command");
 }
 

@@ -35,6 +35,17 @@ fi
 "$gdof" --render "$root/examples/render/generated.json" --blurfield "$root/examples/render/generated_two_planes.json" \
         --spp 32 -o "$tmp/render.exr"
 "$gdof" "$tmp/render.exr" --ch R,G,B -o "$img/raytrace_two_planes.png"
+# Bokeh (--bokeh, --aperture): the highlights scene's deep all-in-focus render
+# defocused with a Gaussian (--diffuse), a disc and a 6-blade iris, next to
+# the ray tracer's render with the same iris. Exposure 1/2 shows the shapes.
+hl="$root/examples/render/highlights.json"
+"$gdof" --render "$hl" --pinhole --deep --spp 64 -o "$tmp/hl_deep.exr"
+"$gdof" --render "$hl" --aperture polygon:6:15 --spp 256 --ch R,G,B --mulc 0.5 -o "$img/bokeh_raytraced_hexagon.png"
+"$gdof" "$tmp/hl_deep.exr" --diffuse --ch R,G,B --mulc 0.5 -o "$img/bokeh_diffuse.png"
+"$gdof" "$tmp/hl_deep.exr" --bokeh --ch R,G,B --mulc 0.5 -o "$img/bokeh_disc.png"
+"$gdof" "$tmp/hl_deep.exr" --aperture polygon:6:15 --bokeh --ch R,G,B --mulc 0.5 -o "$img/bokeh_hexagon.png"
+"$gdof" "$tmp/hl_deep.exr" --aperture disc,squeeze=1.8,cats_eye=0.6 --bokeh --ch R,G,B --mulc 0.5 \
+        -o "$img/bokeh_anamorphic_cats_eye.png"
 # Live action: a real RGB-D frame (TUM: colour PNG + uint16 depth PNG, metres =
 # counts / 5000, 19% holes), plate and depth map as two files, focus picked on
 # the yellow chair. Skipped when ../shared/data is absent.

@@ -23,7 +23,9 @@ std::size_t reference_part(const ImageSet& set) {
     return 0;
 }
 
-void report_defocus(Frame& f, const std::string& where, const DefocusStats& stats) {
+const char* op_flag(DefocusFilter filter) { return filter == DefocusFilter::Bokeh ? "--bokeh" : "--diffuse"; }
+
+void report_defocus(Frame& f, const std::string& flag, const std::string& where, const DefocusStats& stats) {
     Session& s = *f.session;
     s.stats.add(" layers", stats.t_layers);
     s.stats.add(" blur map", stats.t_blur);
@@ -35,41 +37,48 @@ void report_defocus(Frame& f, const std::string& where, const DefocusStats& stat
         std::string rep = stats.report();
         rep = rep.substr(rep.find('\n') + 1);
         if (!rep.empty() && rep.back() == '\n') rep.pop_back();
-        s.progress.message("gdof: --diffuse " + where + (f.frame ? " frame " + std::to_string(*f.frame) : "") +
-                           " (solver " + to_string(f.defocus.diffusion.solver) + "):\n" + rep);
+        const std::string how = f.defocus.filter == DefocusFilter::Bokeh
+                                    ? "aperture " + format_aperture(f.defocus.aperture)
+                                    : "solver " + std::string(to_string(f.defocus.diffusion.solver));
+        s.progress.message("gdof: " + flag + " " + where + (f.frame ? " frame " + std::to_string(*f.frame) : "") +
+                           " (" + how + "):\n" + rep);
     }
 }
 
 // One view (or a file without views) through defocus().
 ImageSet diffuse_view(Frame& f, const ImageSet& images, const std::string& where) {
     Session& s = *f.session;
+    const std::string flag = op_flag(f.defocus.filter);
     const std::size_t ref = reference_part(images);
-    const Camera camera = image_camera(f, images, ref, "--diffuse", where);
-    const BlurField field = field_for(f, camera, "--diffuse", where);
+    const Camera camera = image_camera(f, images, ref, flag, where);
+    const BlurField field = field_for(f, camera, flag, where);
     DefocusOptions options = f.defocus;
     options.source = f.source;
 
     DefocusStats stats;
     Result<ImageSet> result = ImageSet{};
     {
-        StageTimer timer(s.stats, "diffuse");
-        s.progress.begin("diffuse");
+        StageTimer timer(s.stats, flag.substr(2));
+        s.progress.begin(flag.substr(2));
         result = defocus(images, field, camera, options, &stats, s.exec);
         s.progress.end();
     }
     check_interrupted();
-    if (!result) runtime_error("--diffuse: " + where + ": " + message_naming_flag(result.status()));
-    report_defocus(f, where, stats);
+    if (!result) runtime_error(flag + ": " + where + ": " + message_naming_flag(result.status()));
+    report_defocus(f, flag, where, stats);
     return std::move(result).value();
 }
 
-void do_diffuse(Frame& f) {
-    StackEntry& top = f.top("--diffuse");
+// --diffuse and --bokeh: the same pipeline, a different filter per layer.
+void do_defocus(Frame& f, DefocusFilter filter) {
+    f.defocus.filter = filter;
+    const std::string flag = op_flag(filter);
+    StackEntry& top = f.top(flag);
     const std::string where = image_name(top);
-    if (top.images.empty()) runtime_error("--diffuse: " + where + " has no image parts");
+    if (top.images.empty()) runtime_error(flag + ": " + where + " has no image parts");
     if (!top.colorspace.empty())
-        runtime_error("--diffuse: the colour channels of " + where + " are in '" + top.colorspace +
-                      "' (after --colorconvert); diffuse in the scene-linear working space, convert afterwards");
+        runtime_error(flag + ": the colour channels of " + where + " are in '" + top.colorspace +
+                      "' (after --colorconvert); defocus in the scene-linear working space, convert afterwards");
     // A stereo / multi-view file: every view, one output part each (--view
     // picks one).
     const std::vector<std::string> views = part_views(top.images);
@@ -80,7 +89,7 @@ void do_diffuse(Frame& f) {
     ImageSet out;
     for (const std::string& v : views) {
         auto sub = select_view(top.images, v);
-        if (!sub) runtime_error("--diffuse: " + where + ": " + sub.message());
+        if (!sub) runtime_error(flag + ": " + where + ": " + sub.message());
         ImageSet r = diffuse_view(f, *sub, where + " view '" + v + "'");
         for (Part& p : r.parts) {
             std::visit([&](auto& img) { img.view = v; }, p);
@@ -117,7 +126,14 @@ std::vector<Command> diffuse_commands() {
     t.push_back({.names = {"--diffuse"}, .kind = Kind::Action, .group = D,
                  .help = "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
                          "(default: the camera's thin lens) and composited",
-                 .stack = StackUse::NeedsImage, .run = [](Frame& f, const Step&) { do_diffuse(f); }});
+                 .stack = StackUse::NeedsImage,
+                 .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Diffusion); }});
+    t.push_back({.names = {"--bokeh"}, .kind = Kind::Action, .group = D,
+                 .help = "defocus the top image as --diffuse does (same layers, blur field, extrapolation, "
+                         "compositing), each layer spread over the --aperture shape (default disc): bokeh that "
+                         "respects visibility",
+                 .stack = StackUse::NeedsImage,
+                 .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Bokeh); }});
     t.push_back({.names = {"--solver"}, .args = "NAME", .kind = Kind::Modifier, .group = D,
                  .help = "diffusion solver: auto (default: per layer, explicit up to about 15 px of blur, else adi), adi "
                          "(cost independent of the blur) or explicit (the paper's reference)",

@@ -11,7 +11,8 @@
 //   depth_source.cpp  --position-channels, --depth-channel, --depth-encoding, --depth-scale/-near/-far,
 //                     --depth-invalid, --depth-invalid-value, --depth-max, --baseline, --depth-range
 //   lens.cpp          --focal-length-mm, --sensor-width-mm, --f-number, --focus-distance, --scene-unit-mm
-//   diffuse.cpp       --diffuse, --solver, --layers, --adi-steps (method 3: heat diffusion)
+//   diffuse.cpp       --diffuse, --bokeh, --solver, --layers, --adi-steps (method 3: heat diffusion; bokeh)
+//   aperture.cpp      --aperture (the iris for --render and --bokeh)
 //   plate.cpp         --depth, --part, --view, --depth-cleanup, --focus-at, --probe (live-action plates)
 //   composite.cpp     --composite, --surfaces, --near-map, --far-map, --soft, --aovs (method 2)
 //   lightfield.cpp    --lightfield, --lf (method 2: stacks extracted from a light field)
@@ -21,6 +22,8 @@
 #include <vector>
 
 #include "command.h"
+#include "frame.h"
+#include "gdof/aperture.h"
 #include "gdof/io/colour.h"
 
 namespace gdof::cli {
@@ -35,6 +38,10 @@ std::vector<Command> blur_commands();
 std::vector<Command> depth_source_commands();
 std::vector<Command> lens_commands();
 std::vector<Command> diffuse_commands();
+std::vector<Command> aperture_commands();
+// An aperture with its image kernel read (Kind::Image with only a path), or
+// as it is; errors name `context` (the flag, or the scene key).
+Aperture with_kernel_image(Frame& f, Aperture a, const std::string& context);
 std::vector<Command> plate_commands();
 std::vector<Command> composite_commands();
 std::vector<Command> lightfield_commands();

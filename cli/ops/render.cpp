@@ -25,6 +25,7 @@ void run_render(Frame& f) {
     const Scene scene = load_render_scene(f, scene_path);
     const auto tracer = build_tracer(f, scene, scene_path);
     RenderOptions rs = o.options;
+    if (!o.aperture_given) rs.aperture = with_kernel_image(f, scene.aperture, "'" + scene_path + "': camera.aperture");
     std::optional<BlurField> field;  // --blurfield (field_for returns it when one was given)
     if (f.blur && !rs.pinhole) {
         field = field_for(f, scene.camera, "--render", "'" + scene_path + "'");

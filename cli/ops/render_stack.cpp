@@ -50,7 +50,9 @@ void do_render_stack_output(Frame& f, const std::string& pattern) {
     Status st;
     const auto t0 = std::chrono::steady_clock::now();
     s.progress.begin("render " + label(0));
-    st = render_stack(*tracer, plan, o.options, sink, &stats, s.exec);
+    RenderOptions options = o.options;
+    if (!o.aperture_given) options.aperture = with_kernel_image(f, scene.aperture, "'" + scene_path + "': camera.aperture");
+    st = render_stack(*tracer, plan, options, sink, &stats, s.exec);
     s.progress.end();
     s.stats.add("render", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - t_write);
     s.stats.add("write", t_write);

@@ -18,6 +18,8 @@ const std::vector<std::string> kEncodings = {"metric", "inverse", "scaled", "nea
 // Choice params are saved by index: new options go last.
 const std::vector<std::string> kSolvers = {"adi", "explicit", "auto"};
 const std::vector<std::string> kAnalyses = {"frame", "region"};
+const std::vector<std::string> kFilters = {"diffusion", "bokeh"};
+const std::vector<std::string> kApertures = {"disc", "polygon", "image"};
 
 // Index of `value` in `options` (a descriptor's default).
 int option_index(const std::vector<std::string>& options, const std::string& value) {
@@ -107,6 +109,25 @@ void describe_defocus_params(ParamDefiner& d) {
              "region: only the render region plus the blur margin is read (faster on large plates, tiles may differ "
              "slightly at layer edges)");
     d.set_group("");
+
+    d.group("grp_bokeh", "Filter and Aperture");
+    d.set_group("grp_bokeh");
+    d.choice("filter", "Filter", kFilters, 0,
+             "diffusion: each layer blurred by the heat equation (a Gaussian point-spread function); bokeh: each "
+             "layer spread over the aperture's shape (discs, polygons, an image), with the same layers and "
+             "visibility (the CLI's --bokeh)");
+    const Aperture a;
+    d.choice("aperture", "Aperture", kApertures, 0,
+             "bokeh: the iris shape; image takes the Aperture clip (grey or colour) as the kernel");
+    d.integer("blades", "Blades", a.blades, 3, 64, "polygon: the number of blades");
+    d.number("rotation", "Rotation (deg)", a.rotation_deg, -360, 360, -180, 180,
+             "polygon / image: counter-clockwise turn (0: a polygon vertex points right)");
+    d.number("roundness", "Roundness", a.roundness, 0, 1, 0, 1, "polygon: blades bent from straight (0) to a circle (1)");
+    d.number("squeeze", "Anamorphic Squeeze", a.squeeze, 0.1, 10, 0.5, 2,
+             "the shape's width divided by it (2: the oval bokeh of a 2x anamorphic lens)");
+    d.number("cats_eye", "Cat's Eye", a.cats_eye, 0, 1, 0, 1,
+             "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye");
+    d.set_group("");
 }
 
 DefocusParams read_defocus_params(const ParamReader& r) {
@@ -149,6 +170,13 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.layers = r.integer("layers");
     p.cut_by_blur = r.boolean("cut_by_blur");
     p.analysis = r.option("analysis", kAnalyses);
+    p.filter = r.option("filter", kFilters);
+    p.aperture = r.option("aperture", kApertures);
+    p.blades = r.integer("blades");
+    p.rotation = r.number("rotation");
+    p.roundness = r.number("roundness");
+    p.squeeze = r.number("squeeze");
+    p.cats_eye = r.number("cats_eye");
     return p;
 }
 
@@ -215,6 +243,14 @@ Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
     auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto" : "auto:gaps"));
     if (!split) return split.status().prefix("parameter 'layers'");
     s.split = *split;
+    s.filter = p.filter == "bokeh" ? DefocusFilter::Bokeh : DefocusFilter::Diffusion;
+    s.aperture.kind = p.aperture == "polygon" ? Aperture::Kind::Polygon
+                      : p.aperture == "image" ? Aperture::Kind::Image : Aperture::Kind::Disc;
+    s.aperture.blades = p.blades;
+    s.aperture.rotation_deg = p.rotation;
+    s.aperture.roundness = p.roundness;
+    s.aperture.squeeze = p.squeeze;
+    s.aperture.cats_eye = p.cats_eye;
     s.source.depth_channel = "Z";
     if (p.depth_pass == "position") {
         s.source.position_channels = "P";  // Z is computed from P: metric

@@ -49,6 +49,12 @@ struct DefocusParams {
     int layers = 0;                 // 0: auto
     bool cut_by_blur = true;        // auto layers also cut by blur (off: auto:gaps)
     std::string analysis = "frame"; // frame | region
+    // The filter (--diffuse / --bokeh) and the bokeh aperture (--aperture):
+    // image takes the Aperture clip as the kernel.
+    std::string filter = "diffusion";  // diffusion | bokeh
+    std::string aperture = "disc";     // disc | polygon | image
+    int blades = 6;
+    double rotation = 0, roundness = 0, squeeze = 1, cats_eye = 0;
 };
 
 void describe_defocus_params(ParamDefiner& d);
@@ -63,6 +69,7 @@ std::string blur_field_json(const DefocusParams& p, double scale);
 LensOverrides lens_overrides(const DefocusParams& p);
 // Solver, layer split, depth source (channel "Z", decoded per the
 // parameters; position passes as "P.x/y/z" with metric Z). Errors name the parameter.
+// The aperture parameters (an image kernel's pixels are the effect's to add).
 Result<DefocusOptions> defocus_settings(const DefocusParams& p);
 
 }  // namespace gdof::ofx

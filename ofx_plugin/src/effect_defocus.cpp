@@ -19,6 +19,7 @@ const char* const kSource = kOfxImageEffectSimpleSourceClipName;
 const char* const kDepth = "Depth";
 const char* const kBlurMap = "BlurMap";
 const char* const kMask = "Mask";
+const char* const kAperture = "Aperture";
 const char* const kOutput = kOfxImageEffectOutputClipName;
 
 class DefocusEffect final : public Effect {
@@ -38,6 +39,8 @@ public:
                     {kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha}, true);
         define_clip(desc, kMask, "Mask", {kOfxImageComponentAlpha, kOfxImageComponentRGBA}, true)
             .set(kOfxImageClipPropIsMask, 1);
+        define_clip(desc, kAperture, "Aperture",
+                    {kOfxImageComponentRGBA, kOfxImageComponentRGB, kOfxImageComponentAlpha}, true);
         define_clip(desc, kOutput, "Output", {kOfxImageComponentRGBA, kOfxImageComponentRGB}, false);
         ParamDefiner d(desc);
         describe_defocus_params(d);
@@ -47,7 +50,7 @@ public:
         const Clip src(fx, kSource);
         const bool rgb = src.components() == kOfxImageComponentRGB;
         out.set(clip_prop("OfxImageClipPropComponents_", kOutput).c_str(), rgb ? kOfxImageComponentRGB : kOfxImageComponentRGBA);
-        for (const char* c : {kSource, kDepth, kBlurMap, kMask, kOutput})
+        for (const char* c : {kSource, kDepth, kBlurMap, kMask, kAperture, kOutput})
             out.set(clip_prop("OfxImageClipPropDepth_", c).c_str(), kOfxBitDepthFloat);
         // The result is premultiplied RGBA (colour blurred with its coverage).
         out.set(kOfxImageEffectPropPreMultiplication, rgb ? kOfxImageOpaque : kOfxImagePreMultiplied);
@@ -78,6 +81,8 @@ public:
         }
         const Clip map(fx, kBlurMap);
         if (map.connected()) set(kBlurMap, map.region_of_definition(time));
+        const Clip kernel(fx, kAperture);
+        if (kernel.connected()) set(kAperture, kernel.region_of_definition(time));
         set(kMask, roi);
     }
 
@@ -144,6 +149,16 @@ public:
         auto settings = defocus_settings(p);
         if (!settings) fail(settings.message());
         settings->roi = window;
+        if (settings->filter == DefocusFilter::Bokeh && settings->aperture.kind == Aperture::Kind::Image) {
+            // The kernel's pixels as they are: its size does not matter (it is
+            // fitted to the blur radius), so render scale scales it too.
+            const Clip kernel(fx, kAperture);
+            if (!kernel.connected()) fail("aperture image: the Aperture clip is not connected");
+            const ClipImage kimg(kernel, a.time);
+            if (!kimg.valid()) fail("clip 'Aperture' has no image at this time");
+            settings->aperture.image = map_image(kimg, f);
+            settings->aperture.image_path = "clip 'Aperture'";
+        }
 
         const Exec exec = render_exec(fx);
         ImageSet in;

@@ -42,12 +42,13 @@ struct Fixture {
         s.fx->set_choice("depth_channel", "A");
     }
     // gdof --diffuse on the plate (no camera attributes: the lens flags give the camera).
-    std::string cli(const std::string& field_json, const std::string& extra = "", bool with_p = false) {
+    std::string cli(const std::string& field_json, const std::string& extra = "", bool with_p = false,
+                    const std::string& op = "--diffuse") {
         const std::string in = dir.file("plate.exr"), field = dir.file("field.json"), out = dir.file("cli.exr");
         write_plate(plate, in, with_p);
         write_text(field, field_json);
         auto r = run_gdof(quote(in) + " --focal-length-mm 50 --sensor-width-mm 36 " + extra + " --blurfield " +
-                          quote(field) + " --diffuse -o " + quote(out));
+                          quote(field) + " " + op + " -o " + quote(out));
         EXPECT_EQ(r.exit_code, 0) << r.output;
         return out;
     }
@@ -126,6 +127,54 @@ TEST(ofx_defocus, ThinLensEqualsCliWithTheSameLens) {
               "--layers 4 --solver explicit");
     const double d = max_diff_to_file(r, out, 4, H);
     std::printf("OFX vs CLI (thin lens, 4 layers, explicit): max |diff| = %.3g\n", d);
+    EXPECT_LE(d, 1e-5);
+}
+
+// Filter "bokeh" with a rounded hexagon is the CLI's --bokeh with the same
+// --aperture; and it is not the diffusion result.
+TEST(ofx_defocus, BokehFilterEqualsCliBokeh) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    set_planes(*f.s.fx);
+    const Rendered diffused = f.s.fx->render(0, kFull);
+    ASSERT_EQ(diffused.status, kOfxStatOK) << f.s.fx->persistent_message();
+    f.s.fx->set_choice("filter", "bokeh");
+    f.s.fx->set_choice("aperture", "polygon");
+    f.s.fx->set_int("blades", 6);
+    f.s.fx->set("rotation", 15);
+    f.s.fx->set("roundness", 0.2);
+    const Rendered r = f.s.fx->render(0, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const double d = max_diff_to_file(r, f.cli(kPlanesJson, "--aperture polygon:6:15,roundness=0.2", false, "--bokeh"), 4, H);
+    const double from_diffusion = max_diff(r, diffused);
+    std::printf("OFX bokeh vs CLI --bokeh: max |diff| = %.3g; vs diffusion %.3g\n", d, from_diffusion);
+    EXPECT_LE(d, 1e-5);
+    EXPECT_GT(from_diffusion, 1e-2);
+}
+
+// Aperture "image" takes the Aperture clip as the kernel: the CLI's
+// --aperture image:FILE with the same pixels written to a file.
+TEST(ofx_defocus, ApertureClipIsTheImageKernel) {
+    Fixture f;
+    ASSERT_TRUE(f.s.ok());
+    set_planes(*f.s.fx);
+    const int kw = 16, kh = 12;
+    auto kernel = [](int x, int y, int c) {  // rows top-down: an asymmetric colour pattern
+        return c == 0 ? float(x < 6) : c == 1 ? float(y > 7) : float((x + y) % 5 == 0);
+    };
+    ClipFrame clip = ClipFrame::make(kw, kh, kOfxImageComponentRGB);
+    for (int oy = 0; oy < kh; ++oy)
+        for (int x = 0; x < kw; ++x)
+            for (int c = 0; c < 3; ++c) clip.at(x, oy, c) = kernel(x, kh - 1 - oy, c);
+    f.s.fx->connect("Aperture", clip);
+    f.s.fx->set_choice("filter", "bokeh");
+    f.s.fx->set_choice("aperture", "image");
+    const Rendered r = f.s.fx->render(0, kFull);
+    ASSERT_EQ(r.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const std::string kfile = f.dir.file("kernel.exr");
+    write_exr(kfile, kw, kh, {"R", "G", "B"}, kernel);
+    const double d = max_diff_to_file(r, f.cli(kPlanesJson, "--aperture image:" + quote(kfile), false, "--bokeh"), 4, H);
+    std::printf("OFX bokeh (Aperture clip) vs CLI --aperture image: max |diff| = %.3g\n", d);
     EXPECT_LE(d, 1e-5);
 }
 
@@ -309,10 +358,14 @@ struct ScaleError {
     double mean = 0, p99 = 0, max = 0;
 };
 
-ScaleError half_scale_error(const std::string& depth_filter) {
+ScaleError half_scale_error(const std::string& depth_filter, const std::string& aperture = "") {
     Fixture f;
     if (!f.s.ok()) return {1e9, 1e9, 1e9};
     set_planes(*f.s.fx);
+    if (!aperture.empty()) {  // the bokeh filter: the kernel scales with the blur
+        f.s.fx->set_choice("filter", "bokeh");
+        f.s.fx->set_choice("aperture", aperture);
+    }
     f.s.fx->set_int("layers", 3);  // a split that does not depend on the resolution
     ClipFrame depth = plate_clip(f.plate, "depth");
     depth.filter = depth_filter;
@@ -336,8 +389,8 @@ ScaleError half_scale_error(const std::string& depth_filter) {
     e.mean /= double(all.size());
     e.p99 = all[all.size() * 99 / 100];
     e.max = all.back();
-    std::printf("scale 0.5 vs full reduced 2x2 (depth reduced by %s): mean |diff| %.4f, 99th percentile %.4f, max %.4f\n",
-                depth_filter.c_str(), e.mean, e.p99, e.max);
+    std::printf("scale 0.5 vs full reduced 2x2 (depth reduced by %s%s): mean |diff| %.4f, 99th percentile %.4f, max %.4f\n",
+                depth_filter.c_str(), aperture.empty() ? "" : (", bokeh " + aperture).c_str(), e.mean, e.p99, e.max);
     return e;
 }
 
@@ -352,6 +405,11 @@ TEST(ofx_defocus, HalfScaleEqualsTheFullRenderReducedWithinTolerance) {
     EXPECT_LE(nearest.mean, 0.01);
     EXPECT_LE(nearest.p99, 0.15);
     EXPECT_LE(nearest.max, 0.45);
+    // The bokeh filter's aperture scales with the render scale too.
+    const ScaleError hex = half_scale_error("box", "polygon");
+    EXPECT_LE(hex.mean, 0.01);
+    EXPECT_LE(hex.p99, 0.15);
+    EXPECT_LE(hex.max, 0.45);
 }
 
 TEST(ofx_defocus, UnpremultipliedSourceIsPremultipliedAndOutputDeclaredPremultiplied) {

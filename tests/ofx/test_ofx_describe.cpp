@@ -88,7 +88,7 @@ TEST(ofx_describe, DefocusClipsInBothContexts) {
     Described d;
     for (const char* c : {kOfxImageEffectContextFilter, kOfxImageEffectContextGeneral}) {
         const ImageEffect& e = d.ctx(kDefocusId, c);
-        EXPECT_EQ(e.clip_order, (std::vector<std::string>{"Source", "Depth", "BlurMap", "Mask", "Output"})) << c;
+        EXPECT_EQ(e.clip_order, (std::vector<std::string>{"Source", "Depth", "BlurMap", "Mask", "Aperture", "Output"})) << c;
         EXPECT_EQ(clip(e, "Source").strings(kOfxImageEffectPropSupportedComponents),
                   (std::vector<std::string>{kOfxImageComponentRGBA, kOfxImageComponentRGB}));
         EXPECT_EQ(clip(e, "Source").integer(kOfxImageClipPropOptional), 0);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/aperture.h"
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
 #include "gdof/diffusion.h"
@@ -24,7 +25,15 @@
 
 namespace gdof {
 
+// What blurs each layer: the heat equation (Gaussian point-spread function,
+// diffusion.h) or the bokeh filter (the aperture's shape, bokeh.h). Both run
+// in the same pipeline: layers, extrapolated radii, back-to-front `over`.
+enum class DefocusFilter { Diffusion, Bokeh };
+const char* to_string(DefocusFilter f);  // "diffusion", "bokeh"
+
 struct DefocusOptions {
+    DefocusFilter filter = DefocusFilter::Diffusion;
+    Aperture aperture;       // the bokeh filter's point-spread function (disc by default)
     DiffusionOptions diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
     PositionSource source;   // position / depth channels and depth encoding
@@ -47,6 +56,7 @@ struct DefocusStats {
     int layers_empty = 0;      // no coverage: cost nothing
     int layers_sharp = 0;      // largest blur 0: passed through untouched
     int layers_explicit = 0, layers_adi = 0;  // diffused layers by the solver that ran
+    int layers_bokeh = 0;      // layers spread by the bokeh filter
     std::size_t pixels_diffused = 0;  // summed over layers (work-region pixels)
     std::size_t pixels_skipped = 0;   // layer pixels outside any work region / in sharp layers
     double max_radius_px = 0.0;

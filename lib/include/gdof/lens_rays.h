@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "gdof/aperture.h"
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
 #include "gdof/image.h"
@@ -119,6 +120,12 @@ private:
     double mask_scale_ = 1.0;       // (u, v) units per mask pixel
     double mask_area_ = 0.0;
 };
+
+// The sampler of an aperture description: disc and plain polygons as
+// themselves, rounded or squeezed polygons and image kernels as a mask of
+// the shape (its luminance for a colour kernel). The cat's eye (a shape that
+// changes across the frame) is an error.
+Result<ApertureShape> aperture_shape(const Aperture& aperture);
 
 // Concentric (Shirley-Chiu) map of [0,1)^2 onto the unit disc.
 Vec2 concentric_disc(Vec2 unit);

@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "gdof/aperture.h"
 #include "gdof/blur_field.h"
 #include "gdof/deep.h"
 #include "gdof/exec.h"
@@ -120,6 +121,9 @@ struct RenderOptions {
     // and the lens written in the metadata. What a focus/aperture stack
     // render changes per reference (render_stack.h).
     std::optional<LensInfo> lens;
+    // The iris the aperture samples are drawn from (aperture.h); its
+    // radius 1 is the blur radius. The cat's eye is not supported here.
+    Aperture aperture;
 };
 
 struct RenderStats {

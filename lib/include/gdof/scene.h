@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gdof/aperture.h"
 #include "gdof/camera.h"
 #include "gdof/math.h"
 #include "gdof/status.h"
@@ -54,6 +55,7 @@ struct PointLight {
 struct Scene {
     std::string path;          // file it was read from ("" for a string)
     CameraDesc camera_desc;    // as given (lens data included when set)
+    Aperture aperture;         // camera.aperture (disc when absent); an image kernel's file is not read
     Camera camera;             // built from camera_desc
     std::vector<Material> materials;
     std::vector<TriangleMesh> meshes;

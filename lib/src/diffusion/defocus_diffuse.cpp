@@ -54,8 +54,8 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
 }
 
 Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionOptions& settings, const Exec& exec, DiffusedLayer& out,
-                     DefocusStats& stats) {
+                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
+                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats) {
     const Image& img = layer.image;
     const Roi win = img.data_window();
     const int W = work.width(), H = work.height();
@@ -108,12 +108,25 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     }
 
     t0 = std::chrono::steady_clock::now();
+    if (bokeh) {
+        ++stats.layers_bokeh;
+        Status st = spread_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), *bokeh, frame, exec);
+        stats.t_diffuse += seconds_since(t0);
+        if (!st) return st.prefix(layer_label(layer, index));
+        return Status::ok();
+    }
     const DiffusionOptions s = layer_solver_settings(settings, analysis.max_radius, radius);
     ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
     Status st = diffuse_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), s, exec);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     return Status::ok();
+}
+
+int work_margin(const DefocusOptions& settings, double max_radius_px) {
+    const int m = defocus_margin(max_radius_px);
+    if (settings.filter != DefocusFilter::Bokeh || !(max_radius_px > 0.0)) return m;
+    return std::max(m, int(std::ceil(2.0 * max_radius_px)) + 2);
 }
 
 }  // namespace gdof::defocus_detail

@@ -5,6 +5,7 @@
 #include <array>
 #include <vector>
 
+#include "gdof/bokeh.h"
 #include "gdof/defocus.h"
 
 namespace gdof::defocus_detail {
@@ -51,10 +52,16 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
 // known pixels; the whole render's work region, so a cropped render gets the
 // very same radii: push-pull depends on its domain), crops them to `work`,
 // copies the layer's RGBA into zero-padded planes over `work` and diffuses
-// them. Times go to stats.t_extrapolate / t_diffuse.
+// them, or spreads them with `bokeh` when it is given (the cat's eye grows
+// towards the corners of `frame`). Times go to stats.t_extrapolate / t_diffuse.
 Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionOptions& settings, const Exec& exec, DiffusedLayer& out,
-                     DefocusStats& stats);
+                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
+                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats);
+
+// Margin of a layer's work region around its content. The bokeh filter
+// takes 2R + 2 (more than the aperture's reach R + 1) so that the spread
+// weight it normalises by is complete wherever the layer's light lands.
+int work_margin(const DefocusOptions& settings, double max_radius_px);
 
 // dst (float R, G, B, A at channels 0..3) = src over dst, where src is four
 // row-major planes over src_window (row stride = its width). A destination

@@ -17,6 +17,7 @@
 // m(R_max) away from the output.
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "diffusion/defocus_internal.h"
 
@@ -38,6 +39,8 @@ Status validate(const DefocusOptions& s) {
         return Status::error("defocus: adi_steps must be in 0..1000 (0: automatic), got " + std::to_string(d.adi_steps));
     if (!(d.explicit_safety >= 1.0) || d.explicit_safety > 100.0)
         return Status::error("defocus: explicit_safety must be in 1..100, got " + std::to_string(d.explicit_safety));
+    if (s.filter == DefocusFilter::Bokeh)
+        if (Status st = validate(s.aperture); !st) return st;
     if (s.roi.x1 < s.roi.x0 || s.roi.y1 < s.roi.y0)
         return Status::error("defocus: roi " + to_string(s.roi) + " is inverted");
     return Status::ok();
@@ -89,7 +92,8 @@ struct Windows {
     std::vector<Roi> whole, work;  // empty for empty and sharp layers
 };
 
-Windows plan_windows(const std::vector<Layer>& layers, const Analysis& an, const Roi& roi) {
+Windows plan_windows(const std::vector<Layer>& layers, const Analysis& an, const DefocusOptions& settings) {
+    const Roi& roi = settings.roi;
     const std::size_t nl = layers.size();
     Windows w;
     w.limit = unite(an.display, an.frame);
@@ -99,7 +103,7 @@ Windows plan_windows(const std::vector<Layer>& layers, const Analysis& an, const
     for (std::size_t i = 0; i < nl; ++i) {
         const LayerAnalysis& a = an.layers[i];
         if (!a.empty && a.max_radius > 0.0) {
-            w.whole[i] = intersect(a.content.grown(defocus_margin(a.max_radius)), w.limit);
+            w.whole[i] = intersect(a.content.grown(work_margin(settings, a.max_radius)), w.limit);
             w.work[i] = intersect(w.whole[i], w.clip);
         }
         w.output = unite(w.output, w.work[i]);
@@ -119,7 +123,8 @@ struct DiffusionProgress {
 // Step 3 for one layer: skipped (empty, or out of reach of the output),
 // passed through (sharp) or diffused, then composited onto `out`.
 Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Windows& w, const DefocusOptions& settings,
-                    Image& out, DiffusionProgress& progress, DefocusStats& S, const Exec& exec) {
+                    const BokehFilter* bokeh, const Roi& frame, Image& out, DiffusionProgress& progress, DefocusStats& S,
+                    const Exec& exec) {
     const Roi lwin = layer.image.data_window();
     if (a.empty) {
         ++S.layers_empty;
@@ -143,7 +148,7 @@ Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Win
     }
     const double share = double(work.npixels());
     DiffusedLayer d;
-    Status st = diffuse_layer(layer, i, a, work, w.whole[std::size_t(i)], settings.diffusion,
+    Status st = diffuse_layer(layer, i, a, work, w.whole[std::size_t(i)], settings.diffusion, bokeh, frame,
                               sub_exec(exec, progress.at(progress.done), progress.at(progress.done + share)), d, S);
     if (!st) return st;
     S.pixels_diffused += work.npixels();
@@ -171,7 +176,16 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
     auto an = analyse_layers(layers, field, camera, settings.diffusion, S, exec);
     if (!an) return an.status();
     S.max_radius_px = an->max_radius;
-    const Windows w = plan_windows(layers, *an, settings.roi);
+    const Windows w = plan_windows(layers, *an, settings);
+
+    // The bokeh filter's aperture, prepared once for every layer.
+    std::optional<BokehFilter> bokeh;
+    if (settings.filter == DefocusFilter::Bokeh) {
+        auto f = BokehFilter::create(settings.aperture);
+        if (!f) return f.status();
+        bokeh = std::move(f).value();
+    }
+    const Roi frame = an->display.empty() ? w.limit : an->display;
 
     Image out = Image::with_channels({"R", "G", "B", "A"}, w.output);
     out.set_display_window(an->display);
@@ -180,12 +194,15 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
         if (!intersect(w.work[std::size_t(i)], w.output).empty()) progress.total += double(w.work[std::size_t(i)].npixels());
     for (int i = nl - 1; i >= 0; --i) {  // back to front
         if (exec.is_cancelled()) return Status::cancelled("defocus");
-        if (Status st = render_layer(layers[std::size_t(i)], i, an->layers[std::size_t(i)], w, settings, out, progress, S, exec);
+        if (Status st = render_layer(layers[std::size_t(i)], i, an->layers[std::size_t(i)], w, settings, bokeh ? &*bokeh : nullptr,
+                                     frame, out, progress, S, exec);
             !st)
             return st;
     }
     exec.report(1.0);
     return out;
 }
+
+const char* to_string(DefocusFilter f) { return f == DefocusFilter::Bokeh ? "bokeh" : "diffusion"; }
 
 }  // namespace gdof

@@ -10,8 +10,9 @@ std::string DefocusStats::report() const {
     std::ostringstream o;
     o << "defocus:\n";
     o << "  layers            " << layers << " (" << layers_empty << " empty, " << layers_sharp << " sharp, "
-      << (layers - layers_empty - layers_sharp) << " diffused)\n";
-    o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi\n";
+      << (layers - layers_empty - layers_sharp) << (layers_bokeh ? " spread)\n" : " diffused)\n");
+    if (layers_bokeh) o << "  filter            bokeh (" << layers_bokeh << " layers)\n";
+    else o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi\n";
     o << std::fixed << std::setprecision(2);
     o << "  max blur radius   " << max_radius_px << " px\n";
     o << "  pixels diffused   " << pixels_diffused << "\n";
@@ -19,7 +20,7 @@ std::string DefocusStats::report() const {
     if (depth.pixels) o << "  " << depth.report() << "\n";
     o << std::setprecision(3);
     const std::pair<const char*, double> stages[] = {{"layers", t_layers},       {"blur map", t_blur},
-                                                     {"extrapolate", t_extrapolate}, {"diffuse", t_diffuse},
+                                                     {"extrapolate", t_extrapolate}, {layers_bokeh ? "spread" : "diffuse", t_diffuse},
                                                      {"composite", t_composite}};
     for (const auto& [name, t] : stages) o << "  " << std::left << std::setw(18) << (std::string("t ") + name) << std::right
                                            << std::setw(8) << t << " s\n";

@@ -112,6 +112,18 @@ Vec2 concentric_disc(Vec2 unit) {
 
 ApertureShape ApertureShape::disc() { return ApertureShape(); }
 
+Result<ApertureShape> aperture_shape(const Aperture& a) {
+    if (Status st = validate(a); !st) return st;
+    if (a.cats_eye > 0.0)
+        return Status::error("aperture: cats_eye (a shape that changes across the frame) is not supported by the ray "
+                             "tracer; it applies to --bokeh",
+                             StatusCode::InvalidArgument, "cats_eye");
+    if (a.kind == Aperture::Kind::Disc && a.squeeze == 1.0) return ApertureShape::disc();
+    if (a.kind == Aperture::Kind::Polygon && a.roundness == 0.0 && a.squeeze == 1.0)
+        return ApertureShape::polygon(a.blades, a.rotation_deg);
+    return ApertureShape::mask(aperture_mask_image(a, 512));
+}
+
 Result<ApertureShape> ApertureShape::polygon(int blades, double rotation_deg) {
     if (blades < 3) return Status::error("aperture polygon: blades must be >= 3, got " + std::to_string(blades));
     if (!std::isfinite(rotation_deg))

@@ -41,7 +41,9 @@ Result<RenderSetup> polyline_setup(const Scene& scene, const Camera& camera, con
     opts.profile_tolerance_px = s.polyline_tolerance_px;
     opts.ray_tolerance_px = s.polyline_tolerance_px;
     fit_depth_range(scene, camera, opts);
-    auto nc = NonlinearCamera::create(camera, field, opts);
+    auto shape = aperture_shape(s.aperture);
+    if (!shape) return shape.status();
+    auto nc = NonlinearCamera::create(camera, field, opts, shape.value());
     if (!nc) return Status::error("camera: " + nc.message());
     auto rc = RenderCamera::polyline(nc.value());
     if (!rc) return rc.status().prefix("blur field");
@@ -57,6 +59,9 @@ Result<RenderSetup> make_render_setup(const Scene& scene, const Camera& camera, 
         return RenderSetup{RenderCamera::pinhole(camera), "pinhole (the scene camera has no f_number / focus_distance)"};
     auto lens = camera.thin_lens();
     if (!lens) return Status::error("camera: " + lens.message());
+    if (s.straight_thin_lens && !(s.aperture.kind == Aperture::Kind::Disc && s.aperture.squeeze == 1.0))
+        return Status::error("straight_thin_lens: the reference thin lens samples the disc only; drop it to render "
+                             "aperture " + format_aperture(s.aperture));
     if (s.straight_thin_lens)
         return RenderSetup{RenderCamera::straight_thin_lens(camera, thin_lens_equivalent_radius(lens.value()),
                                                             lens->focus_distance),

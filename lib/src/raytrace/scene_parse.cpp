@@ -37,9 +37,42 @@ Vec3 colour(const Value& v) {
     return c;
 }
 
+// camera.aperture: the CLI form ("polygon:6:15,roundness=0.2") or an
+// object with the same names (shape, blades, rotation, roundness, squeeze,
+// cats_eye, image). An image path is resolved against the scene's folder;
+// the front end reads it.
+Aperture parse_aperture_value(const Value& v, const std::string& base_dir) {
+    Aperture a;
+    if (v.raw().is_string()) {
+        auto r = parse_aperture(v.string());
+        if (!r) v.fail(r.message());
+        a = std::move(r).value();
+    } else {
+        const Object o = v.object({"shape", "blades", "rotation", "roundness", "squeeze", "cats_eye", "image"}, {"shape"});
+        const std::string shape = o.get("shape").choice({"disc", "polygon", "image"});
+        a.kind = shape == "disc" ? Aperture::Kind::Disc : shape == "polygon" ? Aperture::Kind::Polygon : Aperture::Kind::Image;
+        if (const auto x = o.find("blades")) a.blades = int(std::clamp(x->integer(), -1LL, 1000LL));
+        if (const auto x = o.find("rotation")) a.rotation_deg = x->number();
+        if (const auto x = o.find("roundness")) a.roundness = x->number();
+        if (const auto x = o.find("squeeze")) a.squeeze = x->number();
+        if (const auto x = o.find("cats_eye")) a.cats_eye = x->number();
+        if (const auto x = o.find("image")) a.image_path = x->string();
+        if (a.kind == Aperture::Kind::Image && a.image_path.empty()) o.require("image", "for shape \"image\"");
+    }
+    if (a.kind != Aperture::Kind::Image) {
+        if (Status st = validate(a); !st) {
+            const std::string key = st.subject().empty() ? std::string() : st.subject();
+            (key.empty() || v.raw().is_string() ? v : Value(v.raw(), json_read::key_path(v.path(), key))).fail(st.message());
+        }
+    } else if (!a.image_path.empty() && fs::path(a.image_path).is_relative() && !base_dir.empty()) {
+        a.image_path = (fs::path(base_dir) / a.image_path).string();
+    }
+    return a;
+}
+
 CameraDesc parse_camera(const Value& v) {
     const Object o = v.object({"position", "look_at", "up", "focal_length_mm", "sensor_width_mm", "hfov_deg",
-                               "resolution", "f_number", "focus_distance", "scene_unit_mm"},
+                               "resolution", "f_number", "focus_distance", "scene_unit_mm", "aperture"},
                               {"position", "look_at"});
     CameraDesc d;
     d.position = o.get("position").vec3();
@@ -227,6 +260,8 @@ struct Builder {
         const Object o = root.object({"camera", "meshes", "materials", "lights", "environment"});
         const Value camera = o.get("camera");
         scene.camera_desc = parse_camera(camera);
+        if (camera.raw().contains("aperture"))
+            scene.aperture = parse_aperture_value(Value(camera.raw()["aperture"], json_read::key_path("camera", "aperture")), base_dir);
         auto cam = Camera::create(scene.camera_desc);
         if (!cam) camera.fail(cam.message(), cam.status().code());
         scene.camera = cam.value();
