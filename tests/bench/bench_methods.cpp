@@ -4,6 +4,7 @@
 //   raytrace       fixed 4..1024 spp and adaptive (caps 16..256)
 //   diffusion      adi / explicit on the renderer's deep output and on its
 //                  flat image + Z (the live-action path), several layer counts
+//   bokeh          the same pipeline with the bokeh filter (disc): deep, flat + Z, degraded Z
 //   compositing    stacks of 4..48 ray-traced references, hard pick / soft 3
 //   gaussian       cv::GaussianBlur per depth slice (the naive baseline)
 // Every result is compared with the ground truth (PSNR, relative L1 / L2,
@@ -12,7 +13,7 @@
 // stacks), as a compositor receives them; they are the best of 2 runs.
 //
 //   bench_methods --out DIR --cache DIR [--full] [--prepare] [--scenes a,b]
-//                 [--fields a,b] [--methods raytrace,diffusion,compositing,gaussian]
+//                 [--fields a,b] [--methods raytrace,diffusion,bokeh,compositing,gaussian]
 //                 [--sizes 640x360,1920x1080]
 //
 // --full adds 1920x1080 (ground truth 256 spp, inputs at 256 spp, a 24
@@ -58,7 +59,7 @@ struct Options {
     std::string out = "bench_out", cache = "bench_cache";
     bool full = false, prepare = false;
     std::vector<std::string> scenes{"generated", "cornell"}, fields{"thin_lens", "two_planes", "region"};
-    std::vector<std::string> methods{"raytrace", "diffusion", "compositing", "gaussian"};
+    std::vector<std::string> methods{"raytrace", "diffusion", "bokeh", "compositing", "gaussian"};
     std::vector<std::string> sizes;  // "WxH" (640x360, 1920x1080); empty: by --full
     bool runs(const std::string& m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
 };
@@ -359,6 +360,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             int adi_steps = 0;
             double safety = 0;  // 0: the default
             bool big = true;    // also run at 1920x1080
+            bool bokeh = false; // --bokeh (disc aperture, as the ground truth's lens) instead of diffusion
         };
         const auto Adi = DiffusionSolver::Adi;
         const auto Exp = DiffusionSolver::Explicit;
@@ -373,11 +375,15 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             {"flat+Z", "8", Exp, 0, 0, false},
             {"flat+Z", "1", Auto},  // one layer: what a continuous surface looks like uncut (seams)
             {"degraded Z", "auto", Auto},
+            // The same pipeline with the bokeh filter (the truth's aperture is a disc).
+            {"deep", "auto", Auto, 0, 0, true, true}, {"flat+Z", "auto", Auto, 0, 0, true, true},
+            {"degraded Z", "auto", Auto, 0, 0, true, true},
         };
-        if (!opt.runs("diffusion")) diffs.clear();
         for (const Diff& d : diffs) {
             if (big && !d.big) continue;
+            if (!opt.runs(d.bokeh ? "bokeh" : "diffusion")) continue;
             DefocusOptions ds;
+            if (d.bokeh) ds.filter = DefocusFilter::Bokeh;
             ds.diffusion.solver = d.solver;
             ds.diffusion.adi_steps = d.adi_steps;
             if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
@@ -386,12 +392,14 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             if (input == &degraded_set) ds.source.depth_decode = DepthDecode{DepthEncoding::Scaled, 1.0 / 1000.0};
             ImageSet result;
             const double secs = best_time(reps, [&] { result = take(defocus(*input, field, cam, ds), "defocus"); });
-            const std::string method = std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
+            const std::string method =
+                d.bokeh ? "bokeh (" + d.input + ")" : std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
             char safety[32] = "";
             if (d.safety > 0) std::snprintf(safety, sizeof safety, " s=%g", d.safety);
             const std::string setting =
                 "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "") + safety;
             row(method, setting, secs, result.flat(0));
+            if (d.bokeh) continue;
             if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
                 best["diffusion auto (deep)"] = rgb_of(result.flat(0), frame);
             if (d.input != "deep" && d.layers == "auto")
