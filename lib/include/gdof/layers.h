@@ -177,8 +177,9 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const 
 // Extends layers behind the nearer layers that hide them: every layer but
 // the nearest gets, at its hidden pixels within `extend_px` of its own
 // coverage, a push-pull fill of its unpremultiplied colour, depth and
-// positions, with alpha 1; so blurring a nearer layer away reveals a
-// plausible continuation instead of black or a hole.
+// positions, with alpha 1 (or its continued coverage, continue_coverage);
+// so blurring a nearer layer away reveals a plausible continuation instead
+// of black or a hole.
 struct ExtendOptions {
     double extend_px = 0.0;
     // The farthest non-empty layer fills every hidden pixel of the frame
@@ -192,6 +193,13 @@ struct ExtendOptions {
     // still fills where another owner's reach ends).
     // Empty: every layer may. Not owned.
     std::span<const int> owner;
+    // The extension's alpha continues the layer's coverage instead of being
+    // 1: its own pixels count with their alpha, the pixels where it is seen
+    // to be empty (not hidden, no coverage: in a deep render the ray passed
+    // the layer's depths without a hit) with 0. So a small isolated object
+    // (a highlight) does not grow an opaque patch behind an occluder that
+    // the occluder's blurred edge would reveal. Deep inputs.
+    bool continue_coverage = false;
 };
 Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                             const Exec& exec = {});

@@ -187,6 +187,7 @@ Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& fiel
     ExtendOptions ext;
     ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
     ext.occluder_alpha = 0.999f;
+    ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
     if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
     return layers;
 }

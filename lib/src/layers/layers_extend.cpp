@@ -71,7 +71,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
             auto fi = [&](int x, int y) {  // absolute -> frame index
                 return std::size_t(y - frame.y0) * std::size_t(FW) + std::size_t(x - frame.x0);
             };
-            std::vector<unsigned char> mine(wn, 0), ext(wn, 0);
+            std::vector<unsigned char> mine(wn, 0), ext(wn, 0), seen_empty(wn, 0);
             for (int y = 0; y < wh; ++y)
                 for (int x = 0; x < ww; ++x) mine[std::size_t(y) * ww + x] = own[fi(work.x0 + x, work.y0 + y)];
             std::vector<float> dist;
@@ -85,6 +85,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                     // The farthest layer still backs what its owner's reach misses (an
                     // opaque plate stays opaque), but not what borders emptiness.
                     const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
+                    if (!hidden && !own[i]) seen_empty[wi] = 1;
                     if (hidden && !own[i] && allowed && (fills_frame || dist[wi] <= opt.extend_px)) {
                         ext[wi] = 1;
                         any = true;
@@ -119,6 +120,21 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work));
                 const bool have_depth =
                     push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work));
+                // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
+                std::vector<float> cover, wcover;
+                const bool coverage_continues = opt.continue_coverage && !fills_frame;
+                if (coverage_continues) {
+                    cover.assign(wn, 0.0f);
+                    wcover.assign(wn, 0.0f);
+                    for (int y = 0; y < wh; ++y)
+                        for (int x = 0; x < ww; ++x) {
+                            const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
+                            if (own[i]) cover[wi] = alpha[i], wcover[wi] = 1.0f;
+                            else if (seen_empty[wi]) wcover[wi] = 1.0f;
+                        }
+                    if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work)))
+                        std::fill(cover.begin(), cover.end(), 1.0f);
+                }
 
                 // Re-window the layer to include the extension.
                 std::vector<ChannelSpec> specs = src.channels();
@@ -138,8 +154,9 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                         const std::size_t wi = std::size_t(y) * ww + x;
                         if (!ext[wi]) continue;
                         const int ax = work.x0 + x, ay = work.y0 + y;
-                        for (int c = 0; c < 3; ++c) out.at(c, ax, ay) = have_colour ? fill[std::size_t(c)][wi] : 0.0f;
-                        out.at(3, ax, ay) = 1.0f;
+                        const float a = coverage_continues ? std::clamp(cover[wi], 0.0f, 1.0f) : 1.0f;
+                        for (int c = 0; c < 3; ++c) out.at(c, ax, ay) = have_colour ? fill[std::size_t(c)][wi] * a : 0.0f;
+                        out.at(3, ax, ay) = a;
                         out.at(4, ax, ay) = have_depth ? fill[3][wi] : float(kInf);
                         for (int k = 0; has_p && k < 3; ++k) out.at(5 + k, ax, ay) = have_depth ? fill[std::size_t(4 + k)][wi] : kNaN;
                     }
