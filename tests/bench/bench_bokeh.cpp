@@ -70,18 +70,6 @@ double median_of(int n, const std::function<void()>& f) {
     return t[t.size() / 2];
 }
 
-Image rgba_over(const Image& img, const Roi& window) {
-    Image out = Image::with_channels({"R", "G", "B", "A"}, window);
-    const Roi dw = img.data_window();
-    for (int c = 0; c < 4; ++c) {
-        const int s = img.channel_index(std::string(1, "RGBA"[c]));
-        if (s < 0) continue;
-        for (int y = std::max(window.y0, dw.y0); y < std::min(window.y1, dw.y1); ++y)
-            for (int x = std::max(window.x0, dw.x0); x < std::min(window.x1, dw.x1); ++x) out.at(c, x, y) = img.at(s, x, y);
-    }
-    return out;
-}
-
 Image cached(const std::string& path, const std::function<ImageSet()>& make) {
     if (!fs::exists(path)) {
         ImageSet s = make();
@@ -146,7 +134,7 @@ void accuracy(const std::string& out, const std::string& cache, int W, int H, st
     };
     std::vector<Truth> truths{{"disc", Aperture{}, {}}, {"hexagon", hexagon(), {}}};
     for (Truth& t : truths) {
-        t.image = rgba_over(cached(dir + "/truth_" + t.name + ".exr", [&] {
+        t.image = bench::rgba_over(cached(dir + "/truth_" + t.name + ".exr", [&] {
             std::fprintf(stderr, "  ground truth (%s): 2048 spp ...\n", t.name.c_str());
             RenderOptions r;
             r.spp = 2048;
@@ -186,7 +174,7 @@ void accuracy(const std::string& out, const std::string& cache, int W, int H, st
         for (const Method& m : methods) {
             ImageSet result;
             const double secs = best_of(2, [&] { result = take(defocus(deep, field, cam, m.options), m.name); });
-            const Image img = rgba_over(result.flat(0), frame);
+            const Image img = bench::rgba_over(result.flat(0), frame);
             const bench::ErrorMetrics e = bench::compare(img, t.image, edges);
             char row[512];
             std::snprintf(row, sizeof row, "| %s | %s | %.2f | %.4f | %.4f | %.4f |\n", t.name.c_str(), m.name.c_str(),

@@ -181,21 +181,6 @@ Image cached_flat(const std::string& path, const std::function<Image()>& make) {
     return img;
 }
 
-// R, G, B, A (float) over `window` (the frame): results whose data window
-// differs (a defocused layer grown past, or not covering, the frame) are
-// cropped or zero-padded.
-Image rgb_of(const Image& img, const Roi& window) {
-    Image out = Image::with_channels({"R", "G", "B", "A"}, window);
-    const Roi dw = img.data_window();
-    for (int c = 0; c < 4; ++c) {
-        const int s = img.channel_index(std::string(1, "RGBA"[c]));
-        if (s < 0) continue;
-        for (int y = std::max(window.y0, dw.y0); y < std::min(window.y1, dw.y1); ++y)
-            for (int x = std::max(window.x0, dw.x0); x < std::min(window.x1, dw.x1); ++x) out.at(c, x, y) = img.at(s, x, y);
-    }
-    return out;
-}
-
 struct Picture {  // for the error-map grid
     std::string label;
     Image image;
@@ -311,7 +296,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             rs.aovs = RenderAov::None;
             return rs;
         };
-        const Image truth = rgb_of(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
+        const Image truth = bench::rgba_over(cached_flat(cdir + "/truth_" + fname + "_" + key + ".exr", [&] {
             std::fprintf(stderr, "  ground truth: %d spp ...\n", gt_spp);
             RenderOptions rs = traced(gt_spp, 0, RenderOptions{}.min_spp);
             rs.seed = 0x5eed;
@@ -320,7 +305,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         if (opt.prepare) continue;
         auto row = [&](const std::string& method, const std::string& setting, double secs, const Image& img,
                        std::uint64_t rays = 0) {
-            Row r{name, fname, method, setting, W, H, secs, bench::compare(rgb_of(img, frame), truth, edges), rays};
+            Row r{name, fname, method, setting, W, H, secs, bench::compare(bench::rgba_over(img, frame), truth, edges), rays};
             csv.add(r);
         };
         std::map<std::string, Image> best;  // for the picture grid
@@ -340,7 +325,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             RenderStats st;
             Image img = take(render(*tracer, traced(cap, 0.02, 4), &st), "raytrace adaptive");
             row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
-            if (cap == 64) best["raytrace adaptive 64"] = rgb_of(img, frame);
+            if (cap == 64) best["raytrace adaptive 64"] = bench::rgba_over(img, frame);
         }
 
         // Diffusion (method 3) on the deep render and on flat + Z.
@@ -401,9 +386,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             row(method, setting, secs, result.flat(0));
             if (d.bokeh) continue;
             if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
-                best["diffusion auto (deep)"] = rgb_of(result.flat(0), frame);
+                best["diffusion auto (deep)"] = bench::rgba_over(result.flat(0), frame);
             if (d.input != "deep" && d.layers == "auto")
-                best["diffusion auto (" + d.input + ")"] = rgb_of(result.flat(0), frame);
+                best["diffusion auto (" + d.input + ")"] = bench::rgba_over(result.flat(0), frame);
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.
@@ -436,7 +421,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                     out = take(composite_stack(sel, px, cs), "composite");
                 });
                 row(soft == 1 ? "compositing hard" : "compositing soft3", "refs=" + std::to_string(n), secs, out);
-                if (n == 48 && soft == 1) best["compositing 48 hard"] = rgb_of(out, frame);
+                if (n == 48 && soft == 1) best["compositing 48 hard"] = bench::rgba_over(out, frame);
             }
         }
 
@@ -447,7 +432,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             const double secs =
                 best_time(reps, [&] { out = take(bench::gaussian_layers(pinhole, field, cam, slices), "gaussian"); });
             row("gaussian layers (cv)", "slices=" + std::to_string(slices), secs, out);
-            if (slices == 8) best["gaussian 8 slices"] = rgb_of(out, frame);
+            if (slices == 8) best["gaussian 8 slices"] = bench::rgba_over(out, frame);
         }
 
         if (!big) {

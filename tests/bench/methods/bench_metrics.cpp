@@ -121,4 +121,16 @@ cv::Mat preview(const Image& img) {
     return m;
 }
 
+Image rgba_over(const Image& img, const Roi& window) {
+    Image out = Image::with_channels({"R", "G", "B", "A"}, window);
+    const Roi dw = img.data_window();
+    for (int c = 0; c < 4; ++c) {
+        const int s = img.channel_index(std::string(1, "RGBA"[c]));
+        if (s < 0) continue;
+        for (int y = std::max(window.y0, dw.y0); y < std::min(window.y1, dw.y1); ++y)
+            for (int x = std::max(window.x0, dw.x0); x < std::min(window.x1, dw.x1); ++x) out.at(c, x, y) = img.at(s, x, y);
+    }
+    return out;
+}
+
 }  // namespace gdof::bench

@@ -24,6 +24,11 @@ struct ErrorMetrics {
 // one not).
 std::vector<char> discontinuity_mask(const float* z, int w, int h, int radius);
 
+// R, G, B, A (float) over `window` (the frame): results whose data window
+// differs (a defocused layer grown past, or not covering, the frame) are
+// cropped or zero-padded.
+Image rgba_over(const Image& img, const Roi& window);
+
 // R, G, B of both images over the same window (premultiplied linear).
 ErrorMetrics compare(const Image& result, const Image& truth, const std::vector<char>& edge_mask);
 
