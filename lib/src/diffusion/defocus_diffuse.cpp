@@ -117,7 +117,8 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     }
     const DiffusionOptions s = layer_solver_settings(settings, analysis.max_radius, radius);
     ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
-    Status st = diffuse_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), s, exec);
+    if (settings.pyramid && pyramid_levels(analysis.max_radius, extrapolation) > 0) ++stats.layers_pyramid;
+    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, extrapolation, settings, exec);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     return Status::ok();
