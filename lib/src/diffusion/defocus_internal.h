@@ -52,6 +52,10 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
 // whole region (0: the layer is solved at full resolution only).
 int pyramid_levels(double layer_max_radius, const Roi& layer_region);
 
+// The solver every pyramid level runs (each level's radii are at most 6
+// px): explicit under `auto`, so the default path solves nothing implicitly.
+DiffusionSolver pyramid_level_solver(const DiffusionOptions& settings);
+
 // Diffuses a layer's four row-major planes over their window with `radius`
 // (same window): on the pyramid when settings.pyramid and the layer's
 // largest radius call for it, else at full resolution; step counts follow

@@ -222,6 +222,10 @@ int pyramid_levels(double layer_max_radius, const Roi& layer_region) {
     return levels;
 }
 
+DiffusionSolver pyramid_level_solver(const DiffusionOptions& settings) {
+    return choose_solver(2.0 * kLevelRadius, settings);
+}
+
 Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius, double layer_max_radius,
                        const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec) {
     const Roi work = planes.window;
