@@ -82,7 +82,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                 full[dst] = analysis.radius[src];
             }
         }
-    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext))) {
+    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
         // No known radius at all: use the layer's largest.
         std::fill(full.begin(), full.end(), float(analysis.max_radius));
     }

@@ -75,7 +75,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
             for (int y = 0; y < wh; ++y)
                 for (int x = 0; x < ww; ++x) mine[std::size_t(y) * ww + x] = own[fi(work.x0 + x, work.y0 + y)];
             std::vector<float> dist;
-            if (!fills_frame) distance_transform(mine, ww, wh, dist);
+            if (!fills_frame) distance_transform(mine, ww, wh, dist, exec);
             Roi box = L.image.data_window();
             bool any = false;
             for (int y = 0; y < wh; ++y)
@@ -117,9 +117,9 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                         }
                     }
                 const ImageView fill_view = ImageView::planar(fill_planes.data(), nfill, work);
-                const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work));
+                const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work), exec);
                 const bool have_depth =
-                    push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work));
+                    push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), exec);
                 // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
                 std::vector<float> cover, wcover;
                 const bool coverage_continues = opt.continue_coverage && !fills_frame;
@@ -132,7 +132,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                             if (own[i]) cover[wi] = alpha[i], wcover[wi] = 1.0f;
                             else if (seen_empty[wi]) wcover[wi] = 1.0f;
                         }
-                    if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work)))
+                    if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work), exec))
                         std::fill(cover.begin(), cover.end(), 1.0f);
                 }
 
