@@ -323,7 +323,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         for (int cap : {16, 64, 256}) {
             if (!opt.runs("raytrace") || (big && cap > 64)) continue;
             RenderStats st;
-            Image img = take(render(*tracer, traced(cap, 0.02, 4), &st), "raytrace adaptive");
+            Image img = take(render(*tracer, traced(cap, RenderOptions{}.adaptive_threshold, RenderOptions{}.min_spp), &st),
+                             "raytrace adaptive");  // the product's stop rule and defaults
             row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
             if (cap == 64) best["raytrace adaptive 64"] = bench::rgba_over(img, frame);
         }
