@@ -74,7 +74,7 @@ void validate_structure(const Program& p) {
             composite_option = s.flag;
         if (n == "--deep" && !after_render) usage_error(s.flag + ": a --render option: give it after --render");
         if (n == "--iscolorspace") pending_iscs = true;
-        if (n == "--solver" || n == "--adi-steps") pending_diffuse = s.flag;
+        if (n == "--solver" || n == "--adi-steps" || n == "--pyramid") pending_diffuse = s.flag;
         if (n == "--layers") pending_layers = s.flag;
         if (n == "--diffuse") pending_diffuse.clear();
         if (n == "--diffuse" || n == "--bokeh") pending_layers.clear();

@@ -118,6 +118,12 @@ int adi_steps(const Step& s) {
     return k;
 }
 
+bool pyramid(const Step& s) {
+    if (s.args[0] == "on") return true;
+    if (s.args[0] == "off") return false;
+    usage_error(s.flag + ": expected 'on' or 'off', got '" + s.args[0] + "'");
+}
+
 }  // namespace
 
 std::vector<Command> diffuse_commands() {
@@ -149,6 +155,11 @@ std::vector<Command> diffuse_commands() {
                  .help = "ADI sub-steps per layer (default 0: automatic, up to 64)",
                  .run = [](Frame& f, const Step& s) { f.defocus.diffusion.adi_steps = adi_steps(s); },
                  .check = [](const Step& s) { adi_steps(s); }});
+    t.push_back({.names = {"--pyramid"}, .args = "on|off", .kind = Kind::Modifier, .group = D,
+                 .help = "on (default): blurs above 6 px solved on coarser levels of a pyramid and blended per pixel, "
+                         "many times faster; off: every layer at full resolution (the reference)",
+                 .run = [](Frame& f, const Step& s) { f.defocus.diffusion.pyramid = pyramid(s); },
+                 .check = [](const Step& s) { pyramid(s); }});
     return t;
 }
 

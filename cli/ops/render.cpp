@@ -100,7 +100,7 @@ std::vector<Command> render_commands() {
     t.push_back(std::move(render));
     t.push_back(option({"--spp"}, "N", "--render: aperture samples per pixel, the cap (default 64)",
                        [](Frame& f, const Step& s) { f.render.options.spp = count(s); }));
-    t.push_back(option({"--min-spp"}, "N", "--render: samples every pixel gets before adaptive stopping (default 4)",
+    t.push_back(option({"--min-spp"}, "N", "--render: samples every pixel gets before adaptive stopping (default 16)",
                        [](Frame& f, const Step& s) { f.render.options.min_spp = count(s); }));
     t.push_back(option({"--adaptive-threshold"}, "E",
                        "--render: stop a pixel when its luminance standard error <= E * mean (default 0.01; 0: "

@@ -99,6 +99,9 @@ void describe_defocus_params(ParamDefiner& d) {
     d.choice("solver", "Solver", kSolvers, option_index(kSolvers, def.solver),
              "auto: per layer, the faster of the two for its blur; adi: cost independent of the blur; explicit: the paper's reference");
     d.integer("adi_steps", "ADI Steps", 0, 0, 1000, "ADI sub-steps (quality); 0: automatic");
+    d.boolean("pyramid", "Pyramid", def.pyramid,
+              "on (default): blurs above 6 px solved on coarser levels and blended per pixel, many times faster "
+              "(as the CLI's --pyramid on); off: every layer at full resolution (the reference)");
     d.integer("layers", "Layers", 0, 0, 1024, "Depth layers: 0 = automatic (split at depth gaps), N = N slices even in 1/depth");
     d.boolean("cut_by_blur", "Cut Layers by Blur", true,
               "Automatic layers only: also cut where the blur changes inside a continuous depth range (a ground "
@@ -167,6 +170,7 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.depth_far = r.number("depth_far");
     p.solver = r.option("solver", kSolvers);
     p.adi_steps = r.integer("adi_steps");
+    p.pyramid = r.boolean("pyramid");
     p.layers = r.integer("layers");
     p.cut_by_blur = r.boolean("cut_by_blur");
     p.analysis = r.option("analysis", kAnalyses);
@@ -240,6 +244,7 @@ Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
     if (!solver) return solver.status().prefix("parameter 'solver'");
     s.diffusion.solver = *solver;
     s.diffusion.adi_steps = p.adi_steps;
+    s.diffusion.pyramid = p.pyramid;
     auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto" : "auto:gaps"));
     if (!split) return split.status().prefix("parameter 'layers'");
     s.split = *split;

@@ -46,6 +46,7 @@ struct DefocusParams {
     // Diffusion.
     std::string solver = to_string(DiffusionOptions{}.solver);  // the library's default (auto)
     int adi_steps = 0;
+    bool pyramid = DiffusionOptions{}.pyramid;  // the library's default (on)
     int layers = 0;                 // 0: auto
     bool cut_by_blur = true;        // auto layers also cut by blur (off: auto:gaps)
     std::string analysis = "frame"; // frame | region

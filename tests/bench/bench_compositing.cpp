@@ -69,7 +69,7 @@ const gdof::FocalStack& stack() {
     return s;
 }
 
-gdof::DesiredFocus desired() {
+gdof::FocusSurfaces surfaces() {
     // Near from 0.7 m (left) to 25 m (right), far = 1.6 x near (+ a vertical tilt).
     std::vector<double> gn, gf;
     for (int j = 0; j < 2; ++j)
@@ -78,9 +78,10 @@ gdof::DesiredFocus desired() {
             gn.push_back(n);
             gf.push_back(n * 1.6);
         }
-    gdof::FocusSurfaces fs{gdof::BSplineSurface::create(6, 2, gn).value(), gdof::BSplineSurface::create(6, 2, gf).value()};
-    return gdof::desired_from_surfaces(fs, W, H).value();
+    return {gdof::BSplineSurface::create(6, 2, gn).value(), gdof::BSplineSurface::create(6, 2, gf).value()};
 }
+
+gdof::DesiredFocus desired() { return gdof::desired_from_surfaces(surfaces(), W, H).value(); }
 
 // Plain copy of reference 0: every tile through the same reader and cache.
 void BM_copy_one_reference(benchmark::State& state) {
@@ -139,8 +140,49 @@ void BM_composite(benchmark::State& state) {
     state.counters["refs_used"] = used;
 }
 
+// The surfaces at every pixel: separable (desired_from_surfaces, what
+// --surfaces runs) ...
 void BM_surfaces(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(desired());
+    state.counters["Mpixel/s"] = benchmark::Counter(double(W) * H * 1e-6 * state.iterations(), benchmark::Counter::kIsRate);
+}
+
+// ... and point by point (BSplineSurface::evaluate per pixel: the previous
+// version, the baseline of the same run).
+void BM_surfaces_per_pixel(benchmark::State& state) {
+    const gdof::FocusSurfaces fs = surfaces();
+    std::vector<float> near(std::size_t(W) * H), far(near.size());
+    for (auto _ : state) {
+        gdof::parallel_for({}, H, [&](long y0, long y1) {
+            for (long y = y0; y < y1; ++y)
+                for (int x = 0; x < W; ++x) {
+                    const double u = (x + 0.5) / W, v = (y + 0.5) / H;
+                    near[std::size_t(y) * W + std::size_t(x)] = float(fs.near.evaluate(u, v));
+                    far[std::size_t(y) * W + std::size_t(x)] = float(fs.far.evaluate(u, v));
+                }
+        }, 16);
+        benchmark::DoNotOptimize(near.data());
+        benchmark::DoNotOptimize(far.data());
+    }
+    state.counters["Mpixel/s"] = benchmark::Counter(double(W) * H * 1e-6 * state.iterations(), benchmark::Counter::kIsRate);
+}
+
+// What `gdof --composite manifest --surfaces s.json` costs: the surfaces,
+// the selection and the tiles (against BM_copy_one_reference).
+void BM_surfaces_and_composite(benchmark::State& state) {
+    const auto& s = stack();
+    std::vector<gdof::DepthInterval> l;
+    for (const auto& r : s.references) l.push_back({r.near, r.far});
+    const gdof::StackIndex index = gdof::StackIndex::build(l).value();
+    gdof::CompositeOptions cs;
+    for (auto _ : state) {
+        const gdof::DesiredFocus d = desired();
+        auto reader = gdof::io::StackReader::create(s).value();
+        auto sel = gdof::select_references(index, d, cs).value();
+        auto out = gdof::composite_stack(sel, *reader, cs);
+        if (!out) state.SkipWithError(out.message().c_str());
+        benchmark::DoNotOptimize(out);
+    }
     state.counters["Mpixel/s"] = benchmark::Counter(double(W) * H * 1e-6 * state.iterations(), benchmark::Counter::kIsRate);
 }
 
@@ -148,6 +190,8 @@ BENCHMARK(BM_copy_one_reference)->Unit(benchmark::kMillisecond)->UseRealTime()->
 BENCHMARK(BM_read_flat_one_reference)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_composite)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_surfaces)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_surfaces_per_pixel)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_surfaces_and_composite)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 }  // namespace
 

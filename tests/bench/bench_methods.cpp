@@ -323,7 +323,8 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         for (int cap : {16, 64, 256}) {
             if (!opt.runs("raytrace") || (big && cap > 64)) continue;
             RenderStats st;
-            Image img = take(render(*tracer, traced(cap, 0.02, 4), &st), "raytrace adaptive");
+            Image img = take(render(*tracer, traced(cap, RenderOptions{}.adaptive_threshold, RenderOptions{}.min_spp), &st),
+                             "raytrace adaptive");  // the product's stop rule and defaults
             row("raytrace adaptive", "cap=" + std::to_string(cap), st.seconds, img, st.primary_rays);
             if (cap == 64) best["raytrace adaptive 64"] = bench::rgba_over(img, frame);
         }
@@ -346,6 +347,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             double safety = 0;  // 0: the default
             bool big = true;    // also run at 1920x1080
             bool bokeh = false; // --bokeh (disc aperture, as the ground truth's lens) instead of diffusion
+            bool full_res = false;  // auto without the pyramid: the previous default, as a baseline of the same run
         };
         const auto Adi = DiffusionSolver::Adi;
         const auto Exp = DiffusionSolver::Explicit;
@@ -360,6 +362,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             {"flat+Z", "8", Exp, 0, 0, false},
             {"flat+Z", "1", Auto},  // one layer: what a continuous surface looks like uncut (seams)
             {"degraded Z", "auto", Auto},
+            // The previous default (every layer at full resolution) beside today's.
+            {"deep", "auto", Auto, 0, 0, true, false, true}, {"flat+Z", "auto", Auto, 0, 0, true, false, true},
+            {"degraded Z", "auto", Auto, 0, 0, true, false, true},
             // The same pipeline with the bokeh filter (the truth's aperture is a disc).
             {"deep", "auto", Auto, 0, 0, true, true}, {"flat+Z", "auto", Auto, 0, 0, true, true},
             {"degraded Z", "auto", Auto, 0, 0, true, true},
@@ -370,6 +375,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             DefocusOptions ds;
             if (d.bokeh) ds.filter = DefocusFilter::Bokeh;
             ds.diffusion.solver = d.solver;
+            // The adi / explicit rows measure the solvers themselves, at full
+            // resolution; auto rows run the default pyramid unless full_res.
+            ds.diffusion.pyramid = d.solver == Auto && !d.full_res;
             ds.diffusion.adi_steps = d.adi_steps;
             if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
             ds.split = take(parse_layer_split(d.layers), "layers");
@@ -377,14 +385,15 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             if (input == &degraded_set) ds.source.depth_decode = DepthDecode{DepthEncoding::Scaled, 1.0 / 1000.0};
             ImageSet result;
             const double secs = best_time(reps, [&] { result = take(defocus(*input, field, cam, ds), "defocus"); });
-            const std::string method =
-                d.bokeh ? "bokeh (" + d.input + ")" : std::string("diffusion ") + to_string(d.solver) + " (" + d.input + ")";
+            const std::string method = d.bokeh ? "bokeh (" + d.input + ")"
+                                               : std::string("diffusion ") + to_string(d.solver) +
+                                                     (d.full_res ? " full-res" : "") + " (" + d.input + ")";
             char safety[32] = "";
             if (d.safety > 0) std::snprintf(safety, sizeof safety, " s=%g", d.safety);
             const std::string setting =
                 "layers=" + d.layers + (d.adi_steps ? " K=" + std::to_string(d.adi_steps) : "") + safety;
             row(method, setting, secs, result.flat(0));
-            if (d.bokeh) continue;
+            if (d.bokeh || d.full_res) continue;
             if (d.input == "deep" && d.layers == "auto" && d.solver == Auto && d.adi_steps == 0)
                 best["diffusion auto (deep)"] = bench::rgba_over(result.flat(0), frame);
             if (d.input != "deep" && d.layers == "auto")

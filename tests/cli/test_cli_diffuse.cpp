@@ -209,6 +209,30 @@ TEST(cli_diffuse, SolverLayersAdiStepsAndStats) {
     EXPECT_GT(mean_abs_diff(pa, pe, sa.nchannels, 4), 0.0);  // really another solver
 }
 
+// --pyramid: on by default for blurs above 6 px (the --stats line says so),
+// off gives the full-resolution reference; the two agree closely.
+TEST(cli_diffuse, PyramidOnByDefaultOffIsTheReference) {
+    Scene sc;
+    const std::string big = sc.dir.file("big.json"), on = sc.dir.file("on.exr"), off = sc.dir.file("off.exr");
+    write_text(big, R"({"blurfield": {"kind": "focal_planes", "depths": [2.9], "max_blur": 24, "slope": 12}})");
+    auto r = run_gdof("--stats " + quote(sc.flat) + " --blurfield " + quote(big) + " --layers 2 --diffuse -o " + quote(on));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "on the pyramid")) << r.output;
+    r = run_gdof("--stats " + quote(sc.flat) + " --blurfield " + quote(big) + " --layers 2 --pyramid off --diffuse -o " +
+                 quote(off));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_FALSE(contains(r.output, "on the pyramid")) << r.output;
+    OIIO::ImageSpec so, sf;
+    auto po = read_pixels(on, &so), pf = read_pixels(off, &sf);
+    ASSERT_EQ(po.size(), pf.size());
+    EXPECT_GT(mean_abs_diff(po, pf, so.nchannels, 4), 0.0);
+    EXPECT_LT(mean_abs_diff(po, pf, so.nchannels, 4), 0.01);
+    r = run_gdof(quote(sc.flat) + " --pyramid maybe --diffuse -o " + quote(sc.dir.file("x.exr")));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(contains(r.output, "--pyramid: expected 'on' or 'off', got 'maybe'")) << r.output;
+    EXPECT_FALSE(fs::exists(sc.dir.file("x.exr")));
+}
+
 TEST(cli_diffuse, FrameRanges) {
     Scene sc;
     fs::copy_file(sc.flat, sc.dir.file("in.0001.exr"));

@@ -57,6 +57,7 @@ struct DefocusStats {
     int layers_sharp = 0;      // largest blur 0: passed through untouched
     int layers_explicit = 0, layers_adi = 0;  // diffused layers by the solver that ran
     int layers_bokeh = 0;      // layers spread by the bokeh filter
+    int layers_pyramid = 0;    // diffused layers solved on pyramid levels (DiffusionOptions::pyramid)
     std::size_t pixels_diffused = 0;  // summed over layers (work-region pixels)
     std::size_t pixels_skipped = 0;   // layer pixels outside any work region / in sharp layers
     double max_radius_px = 0.0;

@@ -41,6 +41,11 @@ struct DiffusionOptions {
     double explicit_safety = 1.25;
     // Radii above this are an error (naming the value); radii are clamped to >= 0.
     double max_radius = 4096.0;
+    // defocus(): solve each pixel's blur on the pyramid level where it is
+    // 2.5 .. 5 px and blend levels per pixel (docs/diffusion.md, "pyramid"),
+    // so a layer's cost stops growing with its largest blur. false: every
+    // layer at full resolution (the reference). diffuse_planes ignores it.
+    bool pyramid = true;
 };
 
 // Diffusivity of a CoC radius in output pixels: D = (R / 2)^2 / 2.

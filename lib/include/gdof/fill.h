@@ -3,6 +3,7 @@
 // and to extend a background layer's colour behind the foreground.
 #pragma once
 
+#include "gdof/exec.h"
 #include "gdof/image.h"
 
 namespace gdof {
@@ -13,7 +14,8 @@ namespace gdof {
 // more); pixels with weight > 0 keep their values bit for bit. Weights are
 // clamped to [0, 1]. Returns false (and changes nothing) when no pixel has
 // weight, when there are no planes or pixels, and when `weight` is not one
-// channel over the planes' window. Deterministic; cost O(pixels * planes).
-bool push_pull_fill(const ImageView& planes, const ConstImageView& weight);
+// channel over the planes' window. Deterministic (the same bits for any
+// thread count of `exec`); cost O(pixels * planes).
+bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, const Exec& exec = {});
 
 }  // namespace gdof

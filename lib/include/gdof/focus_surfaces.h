@@ -68,6 +68,11 @@ public:
 
     // Surface value at (u, v); u, v are clamped to [0, 1].
     double evaluate(double u, double v) const;
+    // The surface at every pixel centre ((x + 0.5) / width, (y + 0.5) / height)
+    // of a width x height image, row-major into `out` (width * height values):
+    // bit for bit evaluate()'s values, computed separably (each control row
+    // combined once per column, then four rows per pixel). False if cancelled.
+    bool evaluate_pixels(int width, int height, float* out, const Exec& exec = {}) const;
     int nx() const { return nx_; }
     int ny() const { return ny_; }
     // The B-spline control points actually used (after any prefilter).

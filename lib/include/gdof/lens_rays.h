@@ -70,8 +70,16 @@ public:
     PixelSampler(int x, int y, std::uint64_t global_seed, bool jitter);
     CameraSample sample(std::uint32_t index) const;
 
+    // The scramble seeds of one pixel's sequence, derived once per pixel
+    // rather than once per sample (unit_square_sample derives them each call).
+    struct Sequence {
+        std::uint32_t order = 0, x = 0, y = 0;
+        explicit Sequence(std::uint64_t pixel_seed);
+        Vec2 at(std::uint32_t index) const;
+    };
+
 private:
-    std::uint64_t seed_, jitter_seed_;
+    Sequence aperture_, jitter_seq_;
     bool jitter_;
 };
 

@@ -95,10 +95,12 @@ std::string format_render_aovs(RenderAov aovs);
 
 struct RenderOptions {
     int spp = 64;                   // cap on aperture samples per pixel
-    int min_spp = 4;                // samples every pixel gets before the adaptive test
+    int min_spp = 16;               // samples every pixel gets before the adaptive test (4 stopped silhouettes too early)
     // Adaptive stop: a pixel stops once the standard error of its mean
     // luminance is <= adaptive_threshold * max(mean, 0.01) (a relative
-    // error). 0 disables (every pixel gets spp samples).
+    // error), and so is its albedo's when the albedo AOV is written; tested
+    // at 2^k samples only (k >= log2 min_spp). 0 disables (every pixel gets
+    // spp samples).
     double adaptive_threshold = 0.01;
     bool pinhole = false;           // all in focus: one central ray per sample, no lens
     // Without a blur field: trace the scene camera's thin lens with straight

@@ -82,7 +82,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                 full[dst] = analysis.radius[src];
             }
         }
-    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext))) {
+    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
         // No known radius at all: use the layer's largest.
         std::fill(full.begin(), full.end(), float(analysis.max_radius));
     }
@@ -115,9 +115,13 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
         if (!st) return st.prefix(layer_label(layer, index));
         return Status::ok();
     }
-    const DiffusionOptions s = layer_solver_settings(settings, analysis.max_radius, radius);
-    ++(s.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
-    Status st = diffuse_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), s, exec);
+    // Counted by the solver that runs: on the pyramid, the levels' one.
+    const bool on_pyramid = settings.pyramid && pyramid_levels(analysis.max_radius, extrapolation) > 0;
+    const DiffusionSolver ran = on_pyramid ? pyramid_level_solver(settings)
+                                           : layer_solver_settings(settings, analysis.max_radius, radius).solver;
+    ++(ran == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
+    if (on_pyramid) ++stats.layers_pyramid;
+    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, extrapolation, settings, exec);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     return Status::ok();

@@ -12,7 +12,8 @@ std::string DefocusStats::report() const {
     o << "  layers            " << layers << " (" << layers_empty << " empty, " << layers_sharp << " sharp, "
       << (layers - layers_empty - layers_sharp) << (layers_bokeh ? " spread)\n" : " diffused)\n");
     if (layers_bokeh) o << "  filter            bokeh (" << layers_bokeh << " layers)\n";
-    else o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi\n";
+    else o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi"
+           << (layers_pyramid ? ", " + std::to_string(layers_pyramid) + " on the pyramid" : std::string()) << "\n";
     o << std::fixed << std::setprecision(2);
     o << "  max blur radius   " << max_radius_px << " px\n";
     o << "  pixels diffused   " << pixels_diffused << "\n";

@@ -91,7 +91,7 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 }
 
 std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
-                                   int W, int H) {
+                                   int W, int H, const Exec& exec) {
     const std::size_t n = front.size();
     // Emptiness (no sample at all: a render's transparent sky) is the
     // farthest candidate: a strip of wall next to it has nothing behind it
@@ -102,14 +102,14 @@ std::vector<int> background_owners(const std::vector<int>& front, const std::vec
     bool any_empty = false;
     for (std::size_t i = 0; i < n; ++i)
         if (front[i] < 0) empty[i] = 1, any_empty = true;
-    if (any_empty) distance_transform(empty, W, H, best);
+    if (any_empty) distance_transform(empty, W, H, best, exec);
     else best.assign(n, std::numeric_limits<float>::infinity());
     // Back to front: before slice k's distances join, `best` holds the
     // nearest of the slices behind k, which is what k's pixels need.
     for (int k = int(own.size()) - 1; k >= 0; --k) {
         for (std::size_t i = 0; i < n; ++i)
             if (front[i] == k) owner[i] = best_k[i];
-        distance_transform(own[std::size_t(k)], W, H, dist);
+        distance_transform(own[std::size_t(k)], W, H, dist, exec);
         for (std::size_t i = 0; i < n; ++i)
             if (dist[i] <= best[i]) best[i] = dist[i], best_k[i] = k;  // ties: the nearer slice
     }

@@ -293,57 +293,84 @@ DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split
     return auto_slices(logs, radii, zmin, zmax, any_inf, split);
 }
 
-void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out) {
+void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out,
+                        const Exec& exec) {
     // Felzenszwalb & Huttenlocher, "Distance Transforms of Sampled Functions":
-    // squared distances by a lower envelope of parabolas, columns then rows.
+    // squared distances by a lower envelope of parabolas, columns then rows
+    // (each column, then each row, on its own: in parallel, same bits).
     constexpr double kBig = 1e12;  // > any squared distance, small enough to keep q^2 exact-ish
     const std::size_t n = std::size_t(width) * std::size_t(height);
     std::vector<double> g(n);
     for (std::size_t i = 0; i < n; ++i) g[i] = mask[i] ? 0.0 : kBig;
-    const int len = std::max(width, height);
-    const std::size_t ulen = std::size_t(len);
-    std::vector<double> f(ulen), d(ulen), z(ulen + 1);
-    std::vector<int> v(ulen);
-    auto pass = [&](int m) {
-        int k = 0;
-        v[0] = 0;
-        z[0] = -kInf;
-        z[1] = kInf;
-        for (int q = 1; q < m; ++q) {
-            auto meet = [&](int p) {
-                return ((f[std::size_t(q)] + double(q) * q) - (f[std::size_t(p)] + double(p) * p)) / (2.0 * (q - p));
-            };
-            double s = meet(v[std::size_t(k)]);
-            while (s <= z[std::size_t(k)]) {  // z[0] = -inf stops this
-                --k;
-                s = meet(v[std::size_t(k)]);
+    const std::size_t ulen = std::size_t(std::max(width, height));
+    struct Scratch {
+        std::vector<double> f, d, z;
+        std::vector<int> v;
+        explicit Scratch(std::size_t len) : f(len), d(len), z(len + 1), v(len) {}
+        void pass(int m) {
+            int k = 0;
+            v[0] = 0;
+            z[0] = -kInf;
+            z[1] = kInf;
+            for (int q = 1; q < m; ++q) {
+                auto meet = [&](int p) {
+                    return ((f[std::size_t(q)] + double(q) * q) - (f[std::size_t(p)] + double(p) * p)) / (2.0 * (q - p));
+                };
+                double s = meet(v[std::size_t(k)]);
+                while (s <= z[std::size_t(k)]) {  // z[0] = -inf stops this
+                    --k;
+                    s = meet(v[std::size_t(k)]);
+                }
+                ++k;
+                v[std::size_t(k)] = q;
+                z[std::size_t(k)] = s;
+                z[std::size_t(k) + 1] = kInf;
             }
-            ++k;
-            v[std::size_t(k)] = q;
-            z[std::size_t(k)] = s;
-            z[std::size_t(k) + 1] = kInf;
-        }
-        k = 0;
-        for (int q = 0; q < m; ++q) {
-            while (z[std::size_t(k) + 1] < q) ++k;
-            const int p = v[std::size_t(k)];
-            d[std::size_t(q)] = double(q - p) * (q - p) + f[std::size_t(p)];
+            k = 0;
+            for (int q = 0; q < m; ++q) {
+                while (z[std::size_t(k) + 1] < q) ++k;
+                const int p = v[std::size_t(k)];
+                d[std::size_t(q)] = double(q - p) * (q - p) + f[std::size_t(p)];
+            }
         }
     };
-    for (int x = 0; x < width; ++x) {
-        for (int y = 0; y < height; ++y) f[std::size_t(y)] = g[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-        pass(height);
-        for (int y = 0; y < height; ++y) g[std::size_t(y) * std::size_t(width) + std::size_t(x)] = d[std::size_t(y)];
-    }
-    out.assign(n, 0.0f);
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) f[std::size_t(x)] = g[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-        pass(width);
-        for (int x = 0; x < width; ++x) {
-            const double dd = d[std::size_t(x)];
-            out[std::size_t(y) * std::size_t(width) + std::size_t(x)] = dd >= kBig * 0.5 ? float(kInf) : float(std::sqrt(dd));
+    // Columns in blocks of kBlock, gathered and scattered row by row so that
+    // memory is read in contiguous runs.
+    constexpr int kBlock = 16;
+    const long nblocks = (width + kBlock - 1) / kBlock;
+    parallel_for(exec, nblocks, [&](long b0, long b1) {
+        Scratch sc(ulen);
+        std::vector<double> cols(std::size_t(kBlock) * std::size_t(height));
+        for (long b = b0; b < b1; ++b) {
+            const int xa = int(b) * kBlock, nb = std::min(kBlock, width - xa);
+            for (int y = 0; y < height; ++y) {
+                const double* row = g.data() + std::size_t(y) * std::size_t(width) + std::size_t(xa);
+                for (int l = 0; l < nb; ++l) cols[std::size_t(l) * std::size_t(height) + std::size_t(y)] = row[l];
+            }
+            for (int l = 0; l < nb; ++l) {
+                double* col = cols.data() + std::size_t(l) * std::size_t(height);
+                std::copy(col, col + height, sc.f.begin());
+                sc.pass(height);
+                std::copy(sc.d.begin(), sc.d.begin() + height, col);
+            }
+            for (int y = 0; y < height; ++y) {
+                double* row = g.data() + std::size_t(y) * std::size_t(width) + std::size_t(xa);
+                for (int l = 0; l < nb; ++l) row[l] = cols[std::size_t(l) * std::size_t(height) + std::size_t(y)];
+            }
         }
-    }
+    });
+    out.assign(n, 0.0f);
+    parallel_for(exec, height, [&](long y0, long y1) {
+        Scratch sc(ulen);
+        for (long y = y0; y < y1; ++y) {
+            for (int x = 0; x < width; ++x) sc.f[std::size_t(x)] = g[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+            sc.pass(width);
+            for (int x = 0; x < width; ++x) {
+                const double dd = sc.d[std::size_t(x)];
+                out[std::size_t(y) * std::size_t(width) + std::size_t(x)] = dd >= kBig * 0.5 ? float(kInf) : float(std::sqrt(dd));
+            }
+        }
+    }, 16);
 }
 
 }  // namespace layers_detail

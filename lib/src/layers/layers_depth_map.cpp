@@ -147,7 +147,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
         front[i] = slice[i];
         if (fg_slice[i] >= 0) owns[std::size_t(fg_slice[i])][i] = 1, front[i] = std::min(front[i], fg_slice[i]);
     }
-    const std::vector<int> owner = background_owners(front, owns, W, H);
+    const std::vector<int> owner = background_owners(front, owns, W, H, exec);
     owns.clear();
 
     // 3. Per slice: own samples, continued pixels of nearer slices.

@@ -16,19 +16,26 @@ using namespace layers_detail;
 namespace {
 
 // Own coverage of a layer over the frame: A > 0 or any colour != 0.
-void coverage(const Image& img, const Roi& frame, std::vector<float>& alpha, std::vector<unsigned char>& own) {
+void coverage(const Image& img, const Roi& frame, std::vector<float>& alpha, std::vector<unsigned char>& own,
+              const Exec& exec) {
     const std::size_t n = frame.npixels();
     alpha.assign(n, 0.0f);
     own.assign(n, 0);
     const Roi w = intersect(img.data_window(), frame);
-    for (int y = w.y0; y < w.y1; ++y)
-        for (int x = w.x0; x < w.x1; ++x) {
-            const std::size_t i = std::size_t(y - frame.y0) * std::size_t(frame.width()) + std::size_t(x - frame.x0);
-            const float a = img.at(3, x, y);
-            const bool present = a > 0.0f || img.at(0, x, y) != 0.0f || img.at(1, x, y) != 0.0f || img.at(2, x, y) != 0.0f;
-            own[i] = present ? 1 : 0;
-            alpha[i] = present ? std::clamp(a, 0.0f, 1.0f) : 0.0f;
+    if (w.empty()) return;
+    parallel_for(exec, w.height(), [&](long r0, long r1) {
+        for (int y = w.y0 + int(r0); y < w.y0 + int(r1); ++y) {
+            const std::size_t o = img.offset(w.x0, y);
+            const float *R = img.plane(0) + o, *G = img.plane(1) + o, *B = img.plane(2) + o, *A = img.plane(3) + o;
+            const std::size_t i0 = std::size_t(y - frame.y0) * std::size_t(frame.width()) + std::size_t(w.x0 - frame.x0);
+            for (int x = 0; x < w.width(); ++x) {
+                const float a = A[x];
+                const bool present = a > 0.0f || R[x] != 0.0f || G[x] != 0.0f || B[x] != 0.0f;
+                own[i0 + std::size_t(x)] = present ? 1 : 0;
+                alpha[i0 + std::size_t(x)] = present ? std::clamp(a, 0.0f, 1.0f) : 0.0f;
+            }
         }
+    }, 16);
 }
 
 }  // namespace
@@ -61,7 +68,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
     for (int s = 0; s < nl; ++s) {
         if (exec.is_cancelled()) return Status::cancelled();
         Layer& L = layers[std::size_t(s)];
-        coverage(L.image, frame, alpha, own);
+        coverage(L.image, frame, alpha, own, exec);
         const Roi own_box = intersect(L.image.data_window(), frame);
         const bool fills_frame = opt.farthest_fills_frame && s == farthest;
         if (s > nearest && !own_box.empty() && (grow > 0 || fills_frame)) {
@@ -75,23 +82,30 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
             for (int y = 0; y < wh; ++y)
                 for (int x = 0; x < ww; ++x) mine[std::size_t(y) * ww + x] = own[fi(work.x0 + x, work.y0 + y)];
             std::vector<float> dist;
-            if (!fills_frame) distance_transform(mine, ww, wh, dist);
+            if (!fills_frame) distance_transform(mine, ww, wh, dist, exec);
+            // Rows marked in parallel, each with its own span of extension;
+            // the union is taken after, in row order.
+            std::vector<Roi> row_box(static_cast<std::size_t>(wh));
+            parallel_for(exec, wh, [&](long r0, long r1) {
+                for (int y = int(r0); y < int(r1); ++y)
+                    for (int x = 0; x < ww; ++x) {
+                        const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
+                        const bool hidden = opt.occluder_alpha > 0.0f ? occ[i] >= opt.occluder_alpha : pres[i] != 0;
+                        // The farthest layer still backs what its owner's reach misses (an
+                        // opaque plate stays opaque), but not what borders emptiness.
+                        const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
+                        if (!hidden && !own[i]) seen_empty[wi] = 1;
+                        if (hidden && !own[i] && allowed && (fills_frame || dist[wi] <= opt.extend_px)) {
+                            ext[wi] = 1;
+                            row_box[std::size_t(y)] =
+                                unite(row_box[std::size_t(y)], Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});
+                        }
+                    }
+            }, 16);
             Roi box = L.image.data_window();
             bool any = false;
-            for (int y = 0; y < wh; ++y)
-                for (int x = 0; x < ww; ++x) {
-                    const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
-                    const bool hidden = opt.occluder_alpha > 0.0f ? occ[i] >= opt.occluder_alpha : pres[i] != 0;
-                    // The farthest layer still backs what its owner's reach misses (an
-                    // opaque plate stays opaque), but not what borders emptiness.
-                    const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
-                    if (!hidden && !own[i]) seen_empty[wi] = 1;
-                    if (hidden && !own[i] && allowed && (fills_frame || dist[wi] <= opt.extend_px)) {
-                        ext[wi] = 1;
-                        any = true;
-                        box = unite(box, Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});
-                    }
-                }
+            for (const Roi& r : row_box)
+                if (!r.empty()) box = unite(box, r), any = true;
             if (any) {
                 const Image& src = L.image;
                 const bool has_p = src.nchannels() >= 8;
@@ -100,7 +114,8 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 std::array<float*, 7> fill{};
                 for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
                 std::vector<float> wcol(wn, 0.0f), wgeo(wn, 0.0f);
-                for (int y = 0; y < wh; ++y)
+                parallel_for(exec, wh, [&](long r0, long r1) {
+                for (int y = int(r0); y < int(r1); ++y)
                     for (int x = 0; x < ww; ++x) {
                         const int ax = work.x0 + x, ay = work.y0 + y;
                         const std::size_t wi = std::size_t(y) * ww + x, i = fi(ax, ay);
@@ -116,10 +131,11 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                             for (int k = 0; has_p && k < 3; ++k) fill[std::size_t(4 + k)][wi] = src.at(5 + k, ax, ay);
                         }
                     }
+                }, 16);
                 const ImageView fill_view = ImageView::planar(fill_planes.data(), nfill, work);
-                const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work));
+                const bool have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work), exec);
                 const bool have_depth =
-                    push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work));
+                    push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), exec);
                 // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
                 std::vector<float> cover, wcover;
                 const bool coverage_continues = opt.continue_coverage && !fills_frame;
@@ -132,7 +148,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                             if (own[i]) cover[wi] = alpha[i], wcover[wi] = 1.0f;
                             else if (seen_empty[wi]) wcover[wi] = 1.0f;
                         }
-                    if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work)))
+                    if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work), exec))
                         std::fill(cover.begin(), cover.end(), 1.0f);
                 }
 
@@ -145,11 +161,17 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                 for (int c = 0; c < out.nchannels(); ++c)
                     if (c >= 4 && out.plane(c)) std::fill(out.plane(c), out.plane(c) + out.npixels(), kNaN);
                 const Roi old = src.data_window();
-                for (int y = old.y0; y < old.y1; ++y)
-                    for (int x = old.x0; x < old.x1; ++x)
-                        for (int c = 0; c < out.nchannels(); ++c)
-                            if (out.plane(c)) out.at(c, x, y) = src.at(c, x, y);
-                for (int y = 0; y < wh; ++y)
+                if (!old.empty())
+                    parallel_for(exec, old.height(), [&](long r0, long r1) {
+                        for (int y = old.y0 + int(r0); y < old.y0 + int(r1); ++y)
+                            for (int c = 0; c < out.nchannels(); ++c)
+                                if (out.plane(c)) {
+                                    const float* from = src.plane(c) + src.offset(old.x0, y);
+                                    std::copy(from, from + old.width(), out.plane(c) + out.offset(old.x0, y));
+                                }
+                    }, 16);
+                parallel_for(exec, wh, [&](long r0, long r1) {
+                for (int y = int(r0); y < int(r1); ++y)
                     for (int x = 0; x < ww; ++x) {
                         const std::size_t wi = std::size_t(y) * ww + x;
                         if (!ext[wi]) continue;
@@ -160,6 +182,7 @@ Status extend_layers_behind(std::vector<Layer>& layers, const Roi& frame, const 
                         out.at(4, ax, ay) = have_depth ? fill[3][wi] : float(kInf);
                         for (int k = 0; has_p && k < 3; ++k) out.at(5 + k, ax, ay) = have_depth ? fill[std::size_t(4 + k)][wi] : kNaN;
                     }
+                }, 16);
                 L.image = std::move(out);
             }
         }

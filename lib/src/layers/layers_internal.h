@@ -57,7 +57,7 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 // the pixel's nearest (front[i], -1: not present), the one whose own pixels
 // (own[k]: the pixels where slice k has a sample) are nearest; -1 where none.
 std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
-                                   int width, int height);
+                                   int width, int height, const Exec& exec = {});
 
 // "depth 2.1-3.4"
 std::string depth_range_name(double near, double far);
@@ -67,6 +67,7 @@ double median_finite(std::vector<float> values);
 
 // Exact Euclidean distance transform: out[i] = distance from pixel i to the
 // nearest pixel with mask != 0 (+inf if none). Row-major width x height.
-void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out);
+void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out,
+                        const Exec& exec = {});
 
 }  // namespace gdof::layers_detail

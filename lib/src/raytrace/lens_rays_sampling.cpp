@@ -16,11 +16,11 @@ namespace {
 using rt::mix64;
 
 std::uint32_t reverse_bits(std::uint32_t x) {
+    // Bits within each byte, then the bytes (one bswap instruction).
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
     x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-    return (x >> 16) | (x << 16);
+    return __builtin_bswap32(x);
 }
 
 // A hash where output bit j depends only on input bits <= j (additions and
@@ -65,33 +65,38 @@ std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed) {
     return h;
 }
 
-Vec2 unit_square_sample(std::uint64_t seed, std::uint32_t index) {
-    const std::uint64_t s1 = mix64(seed + 0x1);
-    const std::uint64_t s2 = mix64(seed + 0x2);
+PixelSampler::Sequence::Sequence(std::uint64_t seed)
+    : order(std::uint32_t(seed) ^ std::uint32_t(seed >> 32)), x(std::uint32_t(mix64(seed + 0x1))),
+      y(std::uint32_t(mix64(seed + 0x2))) {}
+
+Vec2 PixelSampler::Sequence::at(std::uint32_t index) const {
     // Shuffle the order: an Owen scramble of the index permutes aligned
     // blocks of 2^k indices among themselves, so each prefix of 2^k samples
     // is still an aligned block of the (0,2)-sequence, a (0,k,2)-net.
-    const std::uint32_t i = owen_scramble(index, std::uint32_t(seed) ^ std::uint32_t(seed >> 32));
-    const std::uint32_t a = owen_scramble(reverse_bits(i), std::uint32_t(s1));
-    const std::uint32_t b = owen_scramble(sobol_dim1(i), std::uint32_t(s2));
+    const std::uint32_t i = owen_scramble(index, order);
+    const std::uint32_t a = owen_scramble(reverse_bits(i), x);
+    const std::uint32_t b = owen_scramble(sobol_dim1(i), y);
     return {to_unit(a), to_unit(b)};
 }
 
+Vec2 unit_square_sample(std::uint64_t seed, std::uint32_t index) { return PixelSampler::Sequence(seed).at(index); }
+
 void unit_square_samples(std::uint64_t seed, std::uint32_t first, std::span<Vec2> out) {
-    for (std::size_t k = 0; k < out.size(); ++k) out[k] = unit_square_sample(seed, first + std::uint32_t(k));
+    const PixelSampler::Sequence seq(seed);
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = seq.at(first + std::uint32_t(k));
 }
 
 PixelSampler::PixelSampler(int x, int y, std::uint64_t global_seed, bool jitter)
-    : seed_(pixel_seed(x, y, global_seed)), jitter_seed_(jitter ? mix64(seed_ ^ 0x6a09e667f3bcc909ull) : 0),
-      jitter_(jitter) {}
+    : aperture_(pixel_seed(x, y, global_seed)),
+      jitter_seq_(jitter ? mix64(pixel_seed(x, y, global_seed) ^ 0x6a09e667f3bcc909ull) : 0), jitter_(jitter) {}
 
 CameraSample PixelSampler::sample(std::uint32_t index) const {
     CameraSample s;
     if (jitter_) {
-        const Vec2 u = unit_square_sample(jitter_seed_, index);
+        const Vec2 u = jitter_seq_.at(index);
         s.pixel_offset = {u.x - 0.5, u.y - 0.5};
     }
-    s.aperture = unit_square_sample(seed_, index);
+    s.aperture = aperture_.at(index);
     return s;
 }
 

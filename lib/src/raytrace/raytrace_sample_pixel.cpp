@@ -11,8 +11,8 @@ namespace gdof::rt {
 
 namespace {
 
-// Welford running variance of the samples' luminance (the adaptive stop).
-struct LuminanceStats {
+// Welford running variance of one quantity of the samples (the adaptive stop).
+struct RunningStats {
     int n = 0;
     double mean = 0, m2 = 0;
     void add(double l) {
@@ -22,9 +22,27 @@ struct LuminanceStats {
         m2 += d * (l - mean);
     }
     bool converged(double threshold) const {
-        if (threshold <= 0 || n < 2) return false;
+        if (n < 2) return false;
         const double se = std::sqrt(m2 / (n - 1) / n);
         return se <= threshold * std::max(mean, 0.01);
+    }
+};
+
+// The adaptive stop: the beauty's luminance and, when the render writes it,
+// the albedo's (so a pixel whose beauty is black but whose surfaces differ,
+// a shadowed floor at a silhouette, is not left with its first samples),
+// both within the threshold; tested only at sample counts 2^k, where the
+// pixel's samples are a whole (0, k, 2)-net of the aperture.
+struct AdaptiveStop {
+    RunningStats beauty, albedo;
+    bool with_albedo = false;
+    void add(const Sample& s) {
+        beauty.add(luminance(s.radiance));
+        if (with_albedo) albedo.add(luminance(s.albedo));
+    }
+    bool done(int n, int min_spp, double threshold) const {
+        if (threshold <= 0 || n < min_spp || (n & (n - 1)) != 0) return false;
+        return beauty.converged(threshold) && (!with_albedo || albedo.converged(threshold));
     }
 };
 
@@ -91,16 +109,17 @@ Status sample_pixel(const PixelContext& ctx, int x, int y, PixelScratch& scratch
         return Status::error("blur field at " + pixel_name(x, y) + ": " + st.message());
     const PixelSampler sampler(x, y, o.seed, ctx.jitter);
     const std::uint64_t pixel_key = hash(std::uint64_t(std::uint32_t(x)), std::uint32_t(y));
-    LuminanceStats lum;
+    AdaptiveStop stop;
+    stop.with_albedo = has(o.aovs, RenderAov::Albedo);
     scratch.samples.clear();
     for (int s = 0; s < o.spp; ++s) {
-        if (s >= ctx.min_spp && lum.converged(o.adaptive_threshold)) break;
+        if (stop.done(s, ctx.min_spp, o.adaptive_threshold)) break;
         ctx.camera.generate_ray(scratch.cone, sampler.sample(std::uint32_t(s)), scratch.ray);
         ++counters.primary;
         const PolylineHit h = trace_polyline(ctx.tracer, scratch.ray, counters.segments);
         const Sample smp = shade(ctx, h, pixel_key, s, counters.shadow);
         if (Status st = check_float_range(smp, x, y); !st) return st;
-        lum.add(luminance(smp.radiance));
+        stop.add(smp);
         scratch.samples.push_back(smp);
     }
     return {};

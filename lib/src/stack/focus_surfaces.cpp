@@ -2,6 +2,7 @@
 // interpolating prefilter, the surfaces JSON (read with json_read), and
 // near/far maps.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -166,6 +167,67 @@ double BSplineSurface::evaluate(double u, double v) const {
     return sum;
 }
 
+bool BSplineSurface::evaluate_pixels(int width, int height, float* out, const Exec& exec) const {
+    if (width <= 0 || height <= 0) return true;
+    // Per column: its segment and weights, as evaluate() finds them.
+    std::vector<int> sx(std::size_t(width), 0);
+    std::vector<std::array<double, 4>> wx(static_cast<std::size_t>(width));
+    for (int x = 0; x < width; ++x) {
+        double t = 0.0;
+        locate((double(x) + 0.5) / double(width), nx_, sx[std::size_t(x)], t);
+        basis(t, wx[std::size_t(x)].data());
+        if (nx_ == 1) wx[std::size_t(x)] = {0, 1, 0, 0};
+    }
+    // Every control row j in [-1, ny] (phantoms included) combined along x for
+    // every column, in evaluate()'s order; a flag where an infinite control
+    // point has weight.
+    const int nr = ny_ + 2;
+    std::vector<double> rows(std::size_t(nr) * std::size_t(width), 0.0);
+    std::vector<unsigned char> inf(rows.size(), 0);
+    for (int j = -1; j <= ny_; ++j)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t k = std::size_t(j + 1) * std::size_t(width) + std::size_t(x);
+            double row = 0.0;
+            for (int a = 0; a < 4; ++a) {
+                const double w = wx[std::size_t(x)][std::size_t(a)];
+                if (w == 0.0) continue;
+                const double p = cp(sx[std::size_t(x)] - 1 + a, j);
+                if (std::isinf(p)) {
+                    inf[k] = 1;
+                    break;
+                }
+                row += w * p;
+            }
+            rows[k] = row;
+        }
+    const bool single = nx_ == 1 && ny_ == 1;
+    return parallel_for(exec, height, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y) {
+            float* o = out + std::size_t(y) * std::size_t(width);
+            if (single) {
+                std::fill(o, o + width, float(cp_[0]));
+                continue;
+            }
+            int sy = 0;
+            double ty = 0.0, wy[4];
+            locate((double(y) + 0.5) / double(height), ny_, sy, ty);
+            basis(ty, wy);
+            if (ny_ == 1) wy[0] = 0, wy[1] = 1, wy[2] = 0, wy[3] = 0;
+            for (int x = 0; x < width; ++x) {
+                double sum = 0.0;
+                bool is_inf = false;
+                for (int b = 0; b < 4 && !is_inf; ++b) {
+                    if (wy[b] == 0.0) continue;
+                    const std::size_t k = std::size_t(sy + b) * std::size_t(width) + std::size_t(x);  // row sy - 1 + b
+                    if (inf[k]) is_inf = true;
+                    else sum += wy[b] * rows[k];
+                }
+                o[x] = is_inf ? float(kInf) : float(sum);
+            }
+        }
+    }, 16);
+}
+
 Result<FocusSurfaces> parse_focus_surfaces(const std::string& text) {
     return json_read::read_document(text, "surfaces", [](const Value& root) {
         if (!root.raw().is_object())
@@ -192,17 +254,8 @@ Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, in
     d.window = {0, 0, width, height};
     d.near.resize(d.npixels());
     d.far.resize(d.npixels());
-    const bool ok = parallel_for(exec, height, [&](long y0, long y1) {
-        for (long y = y0; y < y1; ++y) {
-            const double v = (double(y) + 0.5) / double(height);
-            for (int x = 0; x < width; ++x) {
-                const double u = (double(x) + 0.5) / double(width);
-                const std::size_t o = std::size_t(y) * std::size_t(width) + std::size_t(x);
-                d.near[o] = float(s.near.evaluate(u, v));
-                d.far[o] = float(s.far.evaluate(u, v));
-            }
-        }
-    }, 16);
+    const bool ok = s.near.evaluate_pixels(width, height, d.near.data(), exec) &&
+                    s.far.evaluate_pixels(width, height, d.far.data(), exec);
     if (!ok) return Status::cancelled();
     return d;
 }

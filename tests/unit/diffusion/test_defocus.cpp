@@ -20,9 +20,11 @@ double gaussian2d(double x, double y, double sigma, double total) {
     return total / (2.0 * M_PI * sigma * sigma) * std::exp(-(x * x + y * y) / (2.0 * sigma * sigma));
 }
 
+// One solver at full resolution on every layer (the pyramid: test_defocus_pyramid.cpp).
 DefocusOptions with_solver(DiffusionSolver s) {
     DefocusOptions d;
     d.diffusion.solver = s;
+    d.diffusion.pyramid = false;
     return d;
 }
 

@@ -88,6 +88,7 @@ TEST(diffusion_auto, EachLayerChoosesByItsOwnBlur) {
     auto render = [&](DiffusionSolver solver, DefocusStats* st) {
         DefocusOptions s;
         s.diffusion.solver = solver;
+        s.diffusion.pyramid = false;  // the solvers themselves, on every layer
         auto r = defocus_layers({fg, bg}, field, test_camera(display), s, st);
         EXPECT_TRUE(r) << r.message();
         return std::move(r).value();

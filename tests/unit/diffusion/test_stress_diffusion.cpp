@@ -29,6 +29,14 @@ using namespace gdof::test;
 
 namespace {
 
+// The exact operator (conservative to rounding); the pyramid's own totals
+// are tested in test_defocus_pyramid.cpp.
+DefocusOptions full_resolution() {
+    DefocusOptions s;
+    s.diffusion.pyramid = false;
+    return s;
+}
+
 // The stress sizes: 1x1, a 1-pixel row and column of 10000, and random small ones.
 // A radius map: all zero, constant, or random with zero patches, up to r_max.
 std::vector<float> random_radii(StressRng& rng, std::size_t n, double r_max) {
@@ -172,6 +180,7 @@ TEST(stress_diffusion, opaque_constant_blur_layer_conserves_premultiplied_totals
         auto colour = [&](int x, int y) { return colours[std::size_t(y - f.y0) * std::size_t(sz.w) + std::size_t(x - f.x0)]; };
         Layer layer = make_layer(f, f, colour, depth);
         DefocusOptions s;
+        s.diffusion.pyramid = false;  // the exact operator; the pyramid's totals: test_defocus_pyramid
         s.diffusion.solver = R <= 8 && f.npixels() < 3000 && rng.chance(0.5) ? DiffusionSolver::Explicit : DiffusionSolver::Adi;
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << " at (" << f.x0 << ", " << f.y0 << "), R " << R
                                           << ", depth " << depth << ", solver " << to_string(s.diffusion.solver));
@@ -208,7 +217,7 @@ TEST(stress_diffusion, partial_layer_with_varying_blur_conserves_totals) {
         Layer layer = make_layer(f, f, [&](int x, int y) { return colours[std::size_t(y) * std::size_t(sz.w) + std::size_t(x)]; }, 3.0);
         const BlurField field = map_field(f, [&](int x, int y) { return map[std::size_t(y) * std::size_t(sz.w) + std::size_t(x)]; }, R);
         SCOPED_TRACE(::testing::Message() << sz.w << "x" << sz.h << ", R " << R);
-        auto out = defocus_layers({layer}, field, test_camera(f), {});
+        auto out = defocus_layers({layer}, field, test_camera(f), full_resolution());
         ASSERT_TRUE(out) << out.message();
         EXPECT_EQ(first_nonfinite(*out), "");
         for (int c = 0; c < 4; ++c) {
@@ -307,7 +316,7 @@ TEST(stress_diffusion, extreme_depths_are_blurred_or_refused_clearly) {
         }
         SCOPED_TRACE(json);
         const BlurField field = parse_field(json);
-        auto out = defocus_layers({layer}, field, test_camera(f), {});
+        auto out = defocus_layers({layer}, field, test_camera(f), full_resolution());
         if (kind == 2 && !out) {
             EXPECT_TRUE(contains(out.message(), "layer 0 'extreme'")) << out.message();
             EXPECT_TRUE(contains(out.message(), "at pixel (") || contains(out.message(), "at covered pixel (")) << out.message();

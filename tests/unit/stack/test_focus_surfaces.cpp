@@ -106,6 +106,35 @@ TEST(focus_surfaces, infinity_propagates_only_where_it_has_weight) {
     EXPECT_NEAR(s.evaluate(0.1, 0), 2.0, 1e-12);
 }
 
+// The separable whole-image evaluation is evaluate() at every pixel centre,
+// bit for bit: grids of every shape (1x1, single rows / columns, larger),
+// approximating and interpolating, with infinite control points, odd sizes,
+// any thread count.
+TEST(focus_surfaces, evaluate_pixels_is_evaluate_at_pixel_centres_bit_for_bit) {
+    std::vector<BSplineSurface> surfaces = {make(1, 1, {3.5}), make(4, 1, {2, 2, 2, kInf}), make(1, 3, {1, kInf, 4}),
+                                            make(3, 2, {1, 2, 3, 4, 5, 6}, true)};
+    std::vector<double> big(7 * 5);
+    for (std::size_t i = 0; i < big.size(); ++i) big[i] = 1.0 + std::sin(double(i) * 1.7) * 0.9;
+    surfaces.push_back(make(7, 5, big));
+    big[12] = kInf;
+    surfaces.push_back(make(7, 5, big));
+    for (const BSplineSurface& s : surfaces)
+        for (auto [w, h] : {std::pair{1, 1}, std::pair{97, 31}, std::pair{256, 7}})
+            for (int threads : {1, 2, 5}) {
+                Exec e;
+                e.nthreads = threads;
+                std::vector<float> out(std::size_t(w) * std::size_t(h), -1.0f);
+                ASSERT_TRUE(s.evaluate_pixels(w, h, out.data(), e));
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        const float ref = float(s.evaluate((x + 0.5) / w, (y + 0.5) / h));
+                        const float got = out[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+                        ASSERT_TRUE(got == ref || (std::isnan(got) && std::isnan(ref)))
+                            << s.nx() << "x" << s.ny() << " at " << x << "," << y << ": " << got << " vs " << ref;
+                    }
+            }
+}
+
 TEST(focus_surfaces, json_surfaces_and_errors) {
     auto r = parse_focus_surfaces(R"({"gdof_surfaces": 1,
         "near": {"grid": [[1, 2], [3, 4]]},
