@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
         return kUsageError;
     }
     install_signal_handlers();
+    gdof::keep_freed_memory();  // frame-sized buffers freed layer after layer are reused, not re-faulted
     Session session;
     int code = kOk;
     try {

@@ -97,6 +97,7 @@ struct Options {
 }  // namespace
 
 int main(int argc, char** argv) {
+    keep_freed_memory();  // as the gdof CLI does
     Options opt;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];

@@ -31,4 +31,10 @@ bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)
 Status parallel_run(const Exec& exec, long n, const std::function<Status(long, long)>& f, long grain = 1,
                     const std::string& what = {});
 
+// Process-wide: keep freed large blocks in the heap for reuse instead of
+// returning them to the system (glibc; elsewhere a no-op). For applications
+// that own their process (the gdof CLI calls it at start, the benchmarks
+// do); a plug-in must leave its host's allocator alone.
+void keep_freed_memory();
+
 }  // namespace gdof

@@ -285,16 +285,15 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     const std::size_t n0 = box0.npixels();
     const bool ok = parallel_for(exec, H, [&](long y0, long y1) {
         std::vector<std::vector<double>> rows(std::size_t(levels) + 1);
-        std::vector<double> acc(4 * std::size_t(W));
+        std::vector<char> used(std::size_t(levels) + 1);
         for (long yl = y0; yl < y1; ++yl) {
             const int y = work.y0 + int(yl);
             const float* lrow = lev.data() + std::size_t(yl) * std::size_t(W);
-            std::fill(acc.begin(), acc.end(), 0.0);
-            std::vector<bool> used(std::size_t(levels) + 1, false);
+            std::fill(used.begin(), used.end(), 0);
             for (int x = 0; x < W; ++x) {
                 const int j0 = std::min(int(lrow[x]), levels);
-                used[std::size_t(j0)] = true;
-                if (j0 < levels && lrow[x] > float(j0)) used[std::size_t(j0) + 1] = true;
+                used[std::size_t(j0)] = 1;
+                if (j0 < levels && lrow[x] > float(j0)) used[std::size_t(j0) + 1] = 1;
             }
             for (int j = 1; j <= levels; ++j)
                 if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(y, rows[std::size_t(j)]);
