@@ -31,6 +31,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_cli.h"
 #include "gdof/defocus.h"
 #include "gdof/io/image_io.h"
 #include "gdof/raytrace.h"
@@ -41,17 +42,15 @@ using namespace gdof;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-namespace {
-
-[[noreturn]] void die(const std::string& m) {
+[[noreturn]] void gdof::bench::die(const std::string& m) {
     std::fprintf(stderr, "bench_bokeh: %s\n", m.c_str());
     std::exit(1);
 }
-template <class T>
-T take(Result<T> r, const std::string& what) {
-    if (!r) die(what + ": " + r.message());
-    return std::move(r).value();
-}
+
+namespace {
+
+using bench::die;
+using bench::take;
 
 double seconds(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -25,24 +25,22 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.h"
 #include "gdof/camera.h"
 #include "gdof/defocus.h"
 #include "gdof/io/image_io.h"
 
 using namespace gdof;
 
-namespace {
-
-[[noreturn]] void die(const std::string& m) {
+[[noreturn]] void gdof::bench::die(const std::string& m) {
     std::fprintf(stderr, "bench_frame: %s\n", m.c_str());
     std::exit(2);
 }
 
-template <class T>
-T take(Result<T> r, const std::string& what) {
-    if (!r) die(what + ": " + r.message());
-    return std::move(r).value();
-}
+namespace {
+
+using bench::die;
+using bench::take;
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
@@ -101,10 +99,7 @@ int main(int argc, char** argv) {
     Options opt;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= argc) die(a + ": missing value");
-            return argv[++i];
-        };
+        auto next = [&] { return bench::option_value(argc, argv, i); };
         if (a == "--flat") opt.flat = next();
         else if (a == "--deep") opt.deep = next();
         else if (a == "--field") opt.field = next();

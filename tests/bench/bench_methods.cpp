@@ -37,6 +37,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench_cli.h"
 #include "gdof/compositing.h"
 #include "gdof/defocus.h"
 #include "gdof/focus_surfaces.h"
@@ -52,6 +53,11 @@
 using namespace gdof;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+
+[[noreturn]] void gdof::bench::die(const std::string& what) {
+    std::fprintf(stderr, "bench_methods: error: %s\n", what.c_str());
+    std::exit(1);
+}
 
 namespace {
 
@@ -71,16 +77,8 @@ std::vector<std::string> split(const std::string& s) {
     return v;
 }
 
-[[noreturn]] void die(const std::string& what) {
-    std::fprintf(stderr, "bench_methods: error: %s\n", what.c_str());
-    std::exit(1);
-}
-
-template <class T>
-T take(Result<T>&& r, const std::string& what) {
-    if (!r) die(what + ": " + r.message());
-    return std::move(r).value();
-}
+using bench::die;
+using bench::take;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -460,10 +458,7 @@ int main(int argc, char** argv) {
     Options opt;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= argc) die(a + ": missing value");
-            return argv[++i];
-        };
+        auto next = [&] { return bench::option_value(argc, argv, i); };
         if (a == "--out") opt.out = next();
         else if (a == "--cache") opt.cache = next();
         else if (a == "--full") opt.full = true;

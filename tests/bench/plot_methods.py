@@ -10,6 +10,7 @@ setting and its cheapest setting, ranked by measured error; and the edge
 errors of diffusion vs the Gaussian baseline).
 """
 import csv
+import math
 import sys
 from collections import defaultdict
 
@@ -150,7 +151,6 @@ for key in keys:
 lines += ["", "**Ray tracing: adaptive against fixed sampling at equal time**", "",
           "| panel | adaptive setting | s | rel L1 adaptive | rel L1 fixed at that time | adaptive / fixed |",
           "|---|---|---|---|---|---|"]
-import math  # noqa: E402
 for key in keys:
     rs = panels[key]
     fixed = sorted((r for r in rs if r["method"] == "raytrace fixed"), key=lambda r: r["seconds"])

@@ -115,15 +115,13 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
         if (!st) return st.prefix(layer_label(layer, index));
         return Status::ok();
     }
-    // Counted by the solver that runs: on the pyramid, the levels' one.
-    const bool on_pyramid = settings.pyramid && pyramid_levels(analysis.max_radius, extrapolation) > 0;
-    const DiffusionSolver ran = on_pyramid ? pyramid_level_solver(settings)
-                                           : layer_solver_settings(settings, analysis.max_radius, radius).solver;
-    ++(ran == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
-    if (on_pyramid) ++stats.layers_pyramid;
-    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, extrapolation, settings, exec);
+    PyramidSolve how;
+    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, extrapolation, settings, exec, how);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
+    // Counted by the solver that ran: on the pyramid, the levels' one.
+    ++(how.solver == DiffusionSolver::Explicit ? stats.layers_explicit : stats.layers_adi);
+    if (how.on_pyramid) ++stats.layers_pyramid;
     return Status::ok();
 }
 

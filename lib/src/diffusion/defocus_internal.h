@@ -48,21 +48,22 @@ struct DiffusedLayer {
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
                                         const std::vector<float>& radius_map);
 
-// Number of coarse pyramid levels for a layer's largest radius and its
-// whole region (0: the layer is solved at full resolution only).
-int pyramid_levels(double layer_max_radius, const Roi& layer_region);
-
-// The solver every pyramid level runs (each level's radii are at most 6
-// px): explicit under `auto`, so the default path solves nothing implicitly.
-DiffusionSolver pyramid_level_solver(const DiffusionOptions& settings);
+// What diffuse_pyramid ran, for the --stats counts.
+struct PyramidSolve {
+    bool on_pyramid = false;  // coarse levels were used
+    DiffusionSolver solver = DiffusionSolver::Explicit;  // the solver that ran (on every level)
+};
 
 // Diffuses a layer's four row-major planes over their window with `radius`
 // (same window): on the pyramid when settings.pyramid and the layer's
 // largest radius call for it, else at full resolution; step counts follow
 // the whole layer's largest radius (layer_solver_settings), the level count
 // from it and the layer's whole region, so sub-regions run the same operator.
+// Every pyramid level's radii are at most 6 px, so under `auto` each level
+// runs explicit: the default path solves nothing implicitly.
 Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius, double layer_max_radius,
-                       const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec);
+                       const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec,
+                       PyramidSolve& how);
 
 // Extrapolates the layer's radii over `extrapolation` (push-pull beyond the
 // known pixels; the whole render's work region, so a cropped render gets the

@@ -103,20 +103,30 @@ Grid build_level(const float* const planes[4], const std::vector<float>& radius,
     return g;
 }
 
-// Cells of level j needed by the pixels whose blend uses it, grown by the
-// reach of a level blur (2c) and the bilinear footprint, within the level.
-Roi needed_cells(const std::vector<float>& lev, const Roi& work, int j, int levels, int scale, const Roi& level_win) {
-    Roi px;  // pixels that use level j
+// For every level, the cells its pixels' blends use (pixel l uses levels
+// floor(l) and, when l is not whole, the next), grown by the reach of a
+// level blur (2c) and the B-spline footprint, within the level's window.
+std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels) {
+    std::vector<Roi> px(static_cast<std::size_t>(levels) + 1);  // pixels that use each level
     const int W = work.width();
     for (int y = 0; y < work.height(); ++y)
         for (int x = 0; x < W; ++x) {
             const float l = lev[std::size_t(y) * std::size_t(W) + std::size_t(x)];
-            if (l > float(j - 1) && (l < float(j + 1) || (j == levels && l >= float(j))))
-                px = unite(px, Roi{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1});
+            const int j0 = std::min(int(l), levels);
+            const Roi p{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1};
+            px[std::size_t(j0)] = unite(px[std::size_t(j0)], p);
+            if (j0 < levels && l > float(j0)) px[std::size_t(j0) + 1] = unite(px[std::size_t(j0) + 1], p);
         }
-    if (px.empty()) return {};
-    const Roi cells{floor_div(px.x0, scale), floor_div(px.y0, scale), ceil_div(px.x1, scale), ceil_div(px.y1, scale)};
-    return intersect(cells.grown(defocus_margin(2.0 * kLevelRadius) + 1), level_win);
+    std::vector<Roi> cells(px.size());
+    for (int j = 0; j <= levels; ++j) {
+        const Roi& r = px[std::size_t(j)];
+        if (r.empty()) continue;
+        const int s = 1 << j;
+        const Roi level_win{floor_div(work.x0, s), floor_div(work.y0, s), ceil_div(work.x1, s), ceil_div(work.y1, s)};
+        const Roi c{floor_div(r.x0, s), floor_div(r.y0, s), ceil_div(r.x1, s), ceil_div(r.y1, s)};
+        cells[std::size_t(j)] = intersect(c.grown(defocus_margin(2.0 * kLevelRadius) + 1), level_win);
+    }
+    return cells;
 }
 
 // Diffuses the cells `box` of a level with radii min(R / scale, 2c), less the
@@ -212,8 +222,8 @@ struct LevelReturn {
     }
 };
 
-}  // namespace
-
+// Number of coarse levels for a layer's largest radius and its whole region
+// (0: the layer is solved at full resolution only).
 int pyramid_levels(double layer_max_radius, const Roi& layer_region) {
     if (!(layer_max_radius > 2.0 * kLevelRadius)) return 0;
     int levels = std::min(kMaxLevels, int(std::ceil(std::log2(layer_max_radius / (2.0 * kLevelRadius)))));
@@ -224,57 +234,54 @@ int pyramid_levels(double layer_max_radius, const Roi& layer_region) {
     return levels;
 }
 
-DiffusionSolver pyramid_level_solver(const DiffusionOptions& settings) {
-    return choose_solver(2.0 * kLevelRadius, settings);
-}
+}  // namespace
 
 Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius, double layer_max_radius,
-                       const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec) {
+                       const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec,
+                       PyramidSolve& how) {
     const Roi work = planes.window;
     const int levels = settings.pyramid ? pyramid_levels(layer_max_radius, layer_region) : 0;
-    const ConstImageView rview = ConstImageView::planar(radius.data(), 1, work);
+    how.on_pyramid = levels > 0;
     if (levels == 0) {
         const DiffusionOptions s = layer_solver_settings(settings, layer_max_radius, radius);
-        return diffuse_planes(planes, rview, s, exec);
+        how.solver = s.solver;
+        return diffuse_planes(planes, ConstImageView::planar(radius.data(), 1, work), s, exec);
     }
+    // Every level's radii are at most 2c: the solver `auto` picks for that.
+    how.solver = choose_solver(2.0 * kLevelRadius, settings);
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
     std::vector<float> lev(n);
     for (std::size_t i = 0; i < n; ++i) lev[i] = level_of(radius[i], levels);
+    const std::vector<Roi> box = needed_cells(lev, work, levels);
 
-    // Level 0: the pixels themselves, radii capped at 2c.
+    // Level j's cells (level 0: the pixels themselves) solved over its box;
+    // grid[0] stays empty (level 0's kept area is never read).
     std::array<const float*, 4> src{};
     for (int c = 0; c < 4; ++c) src[std::size_t(c)] = planes.plane(c);
-    const Roi box0 = needed_cells(lev, work, 0, levels, 1, work);
-    std::vector<float> sol0;
-    if (!box0.empty()) {
-        const std::size_t off = std::size_t(box0.y0 - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
-        const float* p[4];
-        for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
-        if (Status st = solve_level(p, radius.data() + off, box0, std::size_t(W), 1, layer_max_radius, settings, exec, sol0);
-            !st)
-            return st;
-    }
-
-    // Coarse levels, solved over the cells their pixels need.
     std::vector<Grid> grid;
     std::vector<std::vector<float>> sol(std::size_t(levels) + 1);
-    std::vector<Roi> box(std::size_t(levels) + 1);
-    grid.emplace_back(Roi{});
-    for (int j = 1; j <= levels; ++j) {
+    for (int j = 0; j <= levels; ++j) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
-        grid.push_back(build_level(src.data(), radius, work, j, exec));
-        const Grid& g = grid.back();
-        const int scale = 1 << j;
-        box[std::size_t(j)] = needed_cells(lev, work, j, levels, scale, g.win);
+        grid.push_back(j == 0 ? Grid(Roi{}) : build_level(src.data(), radius, work, j, exec));
         const Roi& b = box[std::size_t(j)];
         if (b.empty()) continue;
-        const std::size_t off = g.at(b.x0, b.y0);
+        const Grid& g = grid.back();
         const float* p[4];
-        for (int c = 0; c < 4; ++c) p[c] = g.plane(c) + off;
-        if (Status st = solve_level(p, g.radius.data() + off, b, std::size_t(g.win.width()), scale, layer_max_radius,
-                                    settings, exec, sol[std::size_t(j)]);
-            !st)
+        const float* r = nullptr;
+        std::size_t stride = 0;
+        if (j == 0) {
+            const std::size_t off = std::size_t(b.y0 - work.y0) * std::size_t(W) + std::size_t(b.x0 - work.x0);
+            for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
+            r = radius.data() + off;
+            stride = std::size_t(W);
+        } else {
+            const std::size_t off = g.at(b.x0, b.y0);
+            for (int c = 0; c < 4; ++c) p[c] = g.plane(c) + off;
+            r = g.radius.data() + off;
+            stride = std::size_t(g.win.width());
+        }
+        if (Status st = solve_level(p, r, b, stride, 1 << j, layer_max_radius, settings, exec, sol[std::size_t(j)]); !st)
             return st;
     }
 
@@ -282,6 +289,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     std::vector<LevelReturn> ret;
     for (int j = 0; j <= levels; ++j)
         ret.push_back(LevelReturn{sol[std::size_t(j)], box[std::size_t(j)], grid[std::size_t(j)], 1 << j});
+    const Roi& box0 = box[0];
     const std::size_t n0 = box0.npixels();
     const bool ok = parallel_for(exec, H, [&](long y0, long y1) {
         std::vector<std::vector<double>> rows(std::size_t(levels) + 1);
@@ -309,7 +317,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
                     if (j == 0) {
                         const std::size_t b = std::size_t(y - box0.y0) * std::size_t(box0.width()) +
                                               std::size_t(work.x0 + x - box0.x0);
-                        for (int c = 0; c < 4; ++c) a4[c] += w * sol0[std::size_t(c) * n0 + b];
+                        for (int c = 0; c < 4; ++c) a4[c] += w * sol[0][std::size_t(c) * n0 + b];
                     } else {
                         ret[std::size_t(j)].horizontal(rows[std::size_t(j)], work.x0 + x, w, a4);
                     }

@@ -75,6 +75,7 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
         }
         out[i] = up + acc;
     };
+    bool cancelled = false;
     for (int it = 0; it < iters; ++it) {
         bool ok = parallel_for(exec, H, [&](long y0, long y1) {
             const ScopedFlushDenormals ftz;
@@ -113,15 +114,15 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
             }
         }, 8);
         if (!ok) {
-            // Leave the caller's planes holding the last complete iterate.
-            for (int c = 0; c < nc; ++c)
-                if (cur[std::size_t(c)] != planes[std::size_t(c)]) std::copy(cur[std::size_t(c)], cur[std::size_t(c)] + n, planes[std::size_t(c)]);
-            return Status::cancelled("diffusion");
+            cancelled = true;
+            break;
         }
         std::swap(cur, nxt);
     }
+    // The caller's planes hold the last complete iterate (cancelled or not).
     for (int c = 0; c < nc; ++c)
         if (cur[std::size_t(c)] != planes[std::size_t(c)]) std::copy(cur[std::size_t(c)], cur[std::size_t(c)] + n, planes[std::size_t(c)]);
+    if (cancelled) return Status::cancelled("diffusion");
     return Status::ok();
 }
 
