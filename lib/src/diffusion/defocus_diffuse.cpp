@@ -92,11 +92,13 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
             std::fill(full.begin(), full.end(), float(analysis.max_radius));
         }
         const float rmax = float(analysis.max_radius);
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-                const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
-                radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
-            }
+        parallel_for(exec, H, [&](long r0, long r1) {
+            for (int y = int(r0); y < int(r1); ++y)
+                for (int x = 0; x < W; ++x) {
+                    const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
+                    radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
+                }
+        }, 16);
     }
     stats.t_extrapolate += seconds_since(t0);
 

@@ -68,12 +68,13 @@ float level_of(float r, int levels) {
 // the kept radii (diffusivity goes with R^2; the smallest radius, tried
 // first, under-blurred cells that straddle a change of blur: +5% error on
 // the benchmark's Cornell box).
+// Only the cells of `needed` (the ones solved and read back) are computed.
 Grid build_level(const float* const planes[4], const std::vector<float>& radius, const Roi& work, int j,
-                 const Exec& exec) {
+                 const Roi& needed, const Exec& exec) {
     const int s = 1 << j;
     Grid g(Roi{floor_div(work.x0, s), floor_div(work.y0, s), ceil_div(work.x1, s), ceil_div(work.y1, s)});
     const float keep = float(kLevelRadius * std::ldexp(1.0, j - 2));
-    const Roi& w = g.win;
+    const Roi w = intersect(g.win, needed);  // only the cells that are solved
     const int W = work.width();
     parallel_for(exec, w.height(), [&](long y0, long y1) {
         for (long yl = y0; yl < y1; ++yl) {
@@ -106,16 +107,32 @@ Grid build_level(const float* const planes[4], const std::vector<float>& radius,
 // For every level, the cells its pixels' blends use (pixel l uses levels
 // floor(l) and, when l is not whole, the next), grown by the reach of a
 // level blur (2c) and the B-spline footprint, within the level's window.
-std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels) {
-    std::vector<Roi> px(static_cast<std::size_t>(levels) + 1);  // pixels that use each level
-    const int W = work.width();
-    for (int y = 0; y < work.height(); ++y)
-        for (int x = 0; x < W; ++x) {
-            const float l = lev[std::size_t(y) * std::size_t(W) + std::size_t(x)];
-            const int j0 = std::min(int(l), levels);
-            const Roi p{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1};
-            px[std::size_t(j0)] = unite(px[std::size_t(j0)], p);
-            if (j0 < levels && l > float(j0)) px[std::size_t(j0) + 1] = unite(px[std::size_t(j0) + 1], p);
+std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels, const Exec& exec) {
+    // Per row and level: the span of pixels that use the level.
+    const int W = work.width(), H = work.height();
+    const std::size_t nl = std::size_t(levels) + 1;
+    std::vector<int> lo(std::size_t(H) * nl, W), hi(std::size_t(H) * nl, -1);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (long y = r0; y < r1; ++y) {
+            int* l = lo.data() + std::size_t(y) * nl;
+            int* h = hi.data() + std::size_t(y) * nl;
+            for (int x = 0; x < W; ++x) {
+                const float v = lev[std::size_t(y) * std::size_t(W) + std::size_t(x)];
+                const int j0 = std::min(int(v), levels);
+                l[j0] = std::min(l[j0], x);
+                h[j0] = std::max(h[j0], x);
+                if (j0 < levels && v > float(j0)) {
+                    l[j0 + 1] = std::min(l[j0 + 1], x);
+                    h[j0 + 1] = std::max(h[j0 + 1], x);
+                }
+            }
+        }
+    }, 16);
+    std::vector<Roi> px(nl);  // pixels that use each level
+    for (int y = 0; y < H; ++y)
+        for (std::size_t j = 0; j < nl; ++j) {
+            const std::size_t k = std::size_t(y) * nl + j;
+            if (hi[k] >= lo[k]) px[j] = unite(px[j], Roi{work.x0 + lo[k], work.y0 + y, work.x0 + hi[k] + 1, work.y0 + y + 1});
         }
     std::vector<Roi> cells(px.size());
     for (int j = 0; j <= levels; ++j) {
@@ -138,18 +155,76 @@ double level_radius(double r_full, int scale) {
     return scale == 1 ? r : std::sqrt(std::max(0.0, r * r - kResampleR2));
 }
 
+// The pixels of a W x H mask within chessboard distance m of a set pixel
+// (a square dilation: rows, then columns).
+std::vector<unsigned char> dilate(const std::vector<unsigned char>& mask, int W, int H, int m, const Exec& exec) {
+    std::vector<unsigned char> rows(mask.size(), 0), out(mask.size(), 0);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (long y = r0; y < r1; ++y) {
+            const unsigned char* in = mask.data() + std::size_t(y) * std::size_t(W);
+            unsigned char* o = rows.data() + std::size_t(y) * std::size_t(W);
+            int last = -1 - m;  // nearest set pixel at or left of x
+            for (int x = 0; x < W; ++x) {
+                if (in[x]) last = x;
+                if (x - last <= m) o[x] = 1;
+            }
+            last = W + m;
+            for (int x = W - 1; x >= 0; --x) {
+                if (in[x]) last = x;
+                if (last - x <= m) o[x] = 1;
+            }
+        }
+    }, 16);
+    // Columns in blocks, rows walked in order (memory read row by row).
+    constexpr long kCols = 256;
+    parallel_for(exec, (W + kCols - 1) / kCols, [&](long b0, long b1) {
+        const int xa = int(b0 * kCols), xb = std::min(W, int(b1 * kCols));
+        std::vector<int> last(std::size_t(xb - xa), -1 - m);
+        for (int y = 0; y < H; ++y)
+            for (int x = xa; x < xb; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (rows[i]) last[std::size_t(x - xa)] = y;
+                if (y - last[std::size_t(x - xa)] <= m) out[i] = 1;
+            }
+        std::fill(last.begin(), last.end(), H + m);
+        for (int y = H - 1; y >= 0; --y)
+            for (int x = xa; x < xb; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (rows[i]) last[std::size_t(x - xa)] = y;
+                if (last[std::size_t(x - xa)] - y <= m) out[i] = 1;
+            }
+    });
+    return out;
+}
+
 // Diffuses four row-major planes over `box` in place (the cells of a level,
-// or level 0's pixels), with the radii of `cell_radius` (rows row_stride apart).
+// or level 0's pixels), with the radii of `cell_radius` (rows row_stride
+// apart). `used` (optional, over box): the pixels whose result is read. The
+// explicit stencil moves values one pixel per iteration, so pixels farther
+// than the iteration count from every used pixel cannot reach one: they are
+// made insulating (radius 0), which the solver skips, and the used pixels
+// get the same bits.
 Status solve_level_in_place(const ImageView& planes, const float* cell_radius, std::size_t row_stride, int scale,
-                            double layer_max, const DiffusionOptions& settings, const Exec& exec) {
+                            double layer_max, const DiffusionOptions& settings, const Exec& exec,
+                            const std::vector<unsigned char>* used = nullptr) {
     const Roi& box = planes.window;
     const int W = box.width();
     std::vector<float> radius(box.npixels());
-    for (int y = 0; y < box.height(); ++y)
-        for (int x = 0; x < W; ++x)
-            radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] =
-                float(level_radius(cell_radius[std::size_t(y) * row_stride + std::size_t(x)], scale));
-    const DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    parallel_for(exec, box.height(), [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x)
+                radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] =
+                    float(level_radius(cell_radius[std::size_t(y) * row_stride + std::size_t(x)], scale));
+    }, 16);
+    DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    if (used && s.solver == DiffusionSolver::Explicit) {
+        const int iterations = explicit_iterations(level_radius(layer_max, scale), settings);
+        const std::vector<unsigned char> reach = dilate(*used, W, box.height(), iterations + 2, exec);
+        bool cut = false;
+        for (std::size_t i = 0; i < radius.size(); ++i)
+            if (!reach[i] && radius[i] > 0.0f) radius[i] = 0.0f, cut = true;
+        if (cut) s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    }
     return diffuse_planes(planes, ConstImageView::planar(radius.data(), 1, box), s, exec);
 }
 
@@ -293,8 +368,11 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
     std::vector<float> lev(n);
-    for (std::size_t i = 0; i < n; ++i) lev[i] = level_of(radius[i], levels);
-    const std::vector<Roi> box = needed_cells(lev, work, levels);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * std::size_t(W); i < std::size_t(r1) * std::size_t(W); ++i)
+            lev[i] = level_of(radius[i], levels);
+    }, 16);
+    const std::vector<Roi> box = needed_cells(lev, work, levels, exec);
 
     // Every coarse level built from the layer's planes first, then solved
     // over its box (in place when the box is the whole level); then level 0
@@ -307,7 +385,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     grid.emplace_back(Roi{});  // level 0's kept area is never read
     for (int j = 1; j <= levels; ++j) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
-        grid.push_back(build_level(src.data(), radius, work, j, exec));
+        grid.push_back(build_level(src.data(), radius, work, j, box[std::size_t(j)], exec));
     }
     std::vector<std::vector<float>> sol(std::size_t(levels) + 1);
     for (int j = 1; j <= levels; ++j) {
@@ -336,14 +414,28 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     const bool level0_in_place = box0 == work;
     if (!box0.empty()) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
+        // The pixels that blend level 0, over its box.
+        std::vector<unsigned char> used(box0.npixels());
+        parallel_for(exec, box0.height(), [&](long r0, long r1) {
+            for (int y = box0.y0 + int(r0); y < box0.y0 + int(r1); ++y)
+                for (int x = box0.x0; x < box0.x1; ++x)
+                    used[std::size_t(y - box0.y0) * std::size_t(box0.width()) + std::size_t(x - box0.x0)] =
+                        lev[std::size_t(y - work.y0) * std::size_t(W) + std::size_t(x - work.x0)] < 1.0f;
+        }, 16);
+        const std::size_t off = std::size_t(box0.y0 - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
         Status st;
         if (level0_in_place) {
-            st = solve_level_in_place(planes, radius.data(), std::size_t(W), 1, layer_max_radius, settings, exec);
+            st = solve_level_in_place(planes, radius.data(), std::size_t(W), 1, layer_max_radius, settings, exec, &used);
         } else {
-            const std::size_t off = std::size_t(box0.y0 - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
-            const float* p[4];
-            for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
-            st = solve_level(p, radius.data() + off, box0, std::size_t(W), 1, layer_max_radius, settings, exec, sol[0]);
+            std::vector<float>& out = sol[0];
+            const std::size_t n0 = box0.npixels();
+            out.assign(4 * n0, 0.0f);
+            for (int y = 0; y < box0.height(); ++y)
+                for (int c = 0; c < 4; ++c)
+                    std::copy_n(src[std::size_t(c)] + off + std::size_t(y) * std::size_t(W), box0.width(),
+                                out.data() + std::size_t(c) * n0 + std::size_t(y) * std::size_t(box0.width()));
+            st = solve_level_in_place(ImageView::planar(out.data(), 4, box0), radius.data() + off, std::size_t(W), 1,
+                                      layer_max_radius, settings, exec, &used);
         }
         if (!st) return st;
     }

@@ -70,12 +70,13 @@ private:
 
 // One row of one plane, one iteration: `out` from the previous iterate's
 // rows above (`um`, null on the first row), at (`u0`) and below (`us`, null
-// on the last row); `c` the row's links, `n` the row above's. The interior
-// takes a branch-free loop the compiler vectorises; the same sums in the
-// same order as the border pixels'.
+// on the last row); `c` the row's links, `n` the row above's. Only columns
+// [x0, x1) can change (the links elsewhere are 0): the rest is copied, which
+// is what the sums give there. The interior takes a branch-free loop the
+// compiler vectorises; the same sums in the same order as the border pixels'.
 __attribute__((target_clones("avx2", "default")))
-void step_row(int W, const LinkRow& c, const LinkRow& n, const float* __restrict um, const float* __restrict u0,
-              const float* __restrict us, float* __restrict out) {
+void step_row(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const float* __restrict um,
+              const float* __restrict u0, const float* __restrict us, float* __restrict out) {
     const float* __restrict ce_r = c.ce;
     const float* __restrict cs_r = c.cs;
     const float* __restrict cse_r = c.cse;
@@ -100,19 +101,22 @@ void step_row(int W, const LinkRow& c, const LinkRow& n, const float* __restrict
         }
         out[x] = up + acc;
     };
+    std::copy(u0, u0 + x0, out);
+    std::copy(u0 + x1, u0 + W, out + x1);
     if (!um || !us || W < 3) {
-        for (int x = 0; x < W; ++x) checked(x);
+        for (int x = x0; x < x1; ++x) checked(x);
         return;
     }
-    checked(0);
-    for (int x = 1; x + 1 < W; ++x) {
+    if (x0 == 0) checked(0);
+    const int xa = std::max(1, x0), xb = std::min(W - 1, x1);
+    for (int x = xa; x < xb; ++x) {
         const float up = u0[x];
         const float acc = ce_r[x] * (u0[x + 1] - up) + ce_r[x - 1] * (u0[x - 1] - up) + cs_r[x] * (us[x] - up) +
                           cse_r[x] * (us[x + 1] - up) + csw_r[x] * (us[x - 1] - up) + cs_n[x] * (um[x] - up) +
                           cse_n[x - 1] * (um[x - 1] - up) + csw_n[x + 1] * (um[x + 1] - up);
         out[x] = up + acc;
     }
-    checked(W - 1);
+    if (x1 == W && W > 1) checked(W - 1);
 }
 
 // Iterations fused per pass over memory: a band of rows is advanced k
@@ -125,11 +129,46 @@ void step_row(int W, const LinkRow& c, const LinkRow& n, const float* __restrict
 constexpr int kFused = 6;
 constexpr int kBandRows = 64;
 
+// Columns [x0, x1) of a band's rows whose pixels can change: those with a
+// diffusivity > 0 in rows [ya, yb) (a link's conductance is the smaller
+// diffusivity of its ends, so an insulating pixel never changes).
+struct Columns {
+    int x0 = 0, x1 = 0;
+};
+Columns active_columns(const float* d, int W, int ya, int yb) {
+    int lo = W, hi = -1;
+    for (int y = ya; y < yb; ++y) {
+        const float* r = d + std::size_t(y) * std::size_t(W);
+        int x = 0;
+        while (x < lo && !(r[x] > 0.0f)) ++x;
+        if (x < lo) lo = x;
+        int z = W - 1;
+        while (z > hi && !(r[z] > 0.0f)) --z;
+        if (z > hi) hi = z;
+    }
+    if (hi < lo) return {};
+    return {lo, hi + 1};
+}
+
 // Advances rows [y0, y1) of `src` by k iterations into `dst` (nc planes).
+// Where no diffusivity is > 0 (insulating pixels: everything stays), values
+// are copied instead of summed: the same bits.
 void advance_band(const float* diffusivity, int W, int H, float dt, std::span<float* const> src,
                   std::span<float* const> dst, int y0, int y1, int k, std::vector<float>& ring) {
     const int nc = int(src.size());
     const std::size_t rw = std::size_t(W);
+    // Iterate s covers rows [lo(s), hi(s)); row t - s of iterate s is made at time t.
+    auto lo = [&](int s) { return std::max(0, y0 - (k - s)); };
+    auto hi = [&](int s) { return std::min(H, y1 + (k - s)); };
+    // A pixel's value moves only through links with diffusivity > 0 at both
+    // ends: the columns that can change anywhere in the band's reach.
+    const Columns cols = active_columns(diffusivity, W, std::max(0, lo(1) - 1), std::min(H, hi(1) + 1));
+    if (cols.x1 <= cols.x0) {
+        for (int c = 0; c < nc; ++c)
+            std::copy(src[std::size_t(c)] + std::size_t(y0) * rw, src[std::size_t(c)] + std::size_t(y1) * rw,
+                      dst[std::size_t(c)] + std::size_t(y0) * rw);
+        return;
+    }
     // ring: (k - 1) iterates x 3 rows x nc planes.
     ring.resize(std::size_t(std::max(0, k - 1)) * 3 * std::size_t(nc) * rw);
     auto ring_row = [&](int s, int y, int c) {  // iterate s in 1..k-1
@@ -146,9 +185,6 @@ void advance_band(const float* diffusivity, int W, int H, float dt, std::span<fl
     // rows t - k - 1 .. t - 1.
     LinkRing links(diffusivity, W, H, dt, k + 2);
     const LinkRow none{nullptr, nullptr, nullptr, nullptr};
-    // Iterate s covers rows [lo(s), hi(s)); row t - s of iterate s is made at time t.
-    auto lo = [&](int s) { return std::max(0, y0 - (k - s)); };
-    auto hi = [&](int s) { return std::min(H, y1 + (k - s)); };
     for (int t = lo(1) + 1; t < hi(1) + k; ++t)
         for (int s = 1; s <= k; ++s) {
             const int y = t - s;
@@ -156,8 +192,8 @@ void advance_band(const float* diffusivity, int W, int H, float dt, std::span<fl
             const LinkRow above = y > 0 ? links.at(y - 1) : none;
             const LinkRow here = links.at(y);
             for (int c = 0; c < nc; ++c)
-                step_row(W, here, above, row_of(s - 1, y - 1, c), row_of(s - 1, y, c), row_of(s - 1, y + 1, c),
-                         row_of(s, y, c));
+                step_row(W, cols.x0, cols.x1, here, above, row_of(s - 1, y - 1, c), row_of(s - 1, y, c),
+                         row_of(s - 1, y + 1, c), row_of(s, y, c));
         }
 }
 

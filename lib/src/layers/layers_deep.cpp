@@ -68,24 +68,26 @@ Result<DeepChannels> deep_channels(const DeepImage& deep) {
 }
 
 // First bad sample (in pixel order) as an error, else ok.
-Status validate_samples(const DeepImage& deep, const DeepChannels& ch) {
+Status validate_samples(const DeepImage& deep, const DeepChannels& ch, const Exec& exec) {
     const Roi win = deep.data_window();
     const float* z = deep.samples(ch.z);
     const float* a = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    for (int y = win.y0; y < win.y1; ++y)
-        for (int x = win.x0; x < win.x1; ++x) {
-            const std::size_t p = deep.pixel_index(x, y);
-            const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
-            for (std::size_t k = s0; k < s0 + n; ++k) {
-                const bool bad_z = std::isnan(z[k]) || z[k] == -std::numeric_limits<float>::infinity();
-                const bool bad_a = a && !std::isfinite(a[k]);
-                if (bad_z || bad_a)
-                    return Status::error("deep pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") sample " +
-                                         std::to_string(k - s0) + ": " + (bad_z ? "depth Z" : "alpha A") + " is " +
-                                         std::to_string(bad_z ? z[k] : a[k]));
+    return parallel_run(exec, win.height(), [&](long r0, long r1) {
+        for (int y = win.y0 + int(r0); y < win.y0 + int(r1); ++y)
+            for (int x = win.x0; x < win.x1; ++x) {
+                const std::size_t p = deep.pixel_index(x, y);
+                const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
+                for (std::size_t k = s0; k < s0 + n; ++k) {
+                    const bool bad_z = std::isnan(z[k]) || z[k] == -std::numeric_limits<float>::infinity();
+                    const bool bad_a = a && !std::isfinite(a[k]);
+                    if (bad_z || bad_a)
+                        return Status::error("deep pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") sample " +
+                                             std::to_string(k - s0) + ": " + (bad_z ? "depth Z" : "alpha A") + " is " +
+                                             std::to_string(bad_z ? z[k] : a[k]));
+                }
             }
-        }
-    return Status::ok();
+        return Status::ok();
+    }, 16);
 }
 
 // Sample indices of pixel p sorted front to back (stable on ties).
@@ -180,22 +182,43 @@ struct LayerExtents {
     std::vector<double> znear, zfar;
 };
 
-LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLayers& sl) {
+LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLayers& sl, const Exec& exec) {
     const Roi win = deep.data_window();
+    const std::size_t nl = std::size_t(sl.count);
+    // Bands of rows in parallel, each with its own extents, merged after.
+    constexpr int kBand = 32;
+    const int nbands = (win.height() + kBand - 1) / kBand;
+    std::vector<LayerExtents> band(static_cast<std::size_t>(nbands));
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            LayerExtents& e = band[std::size_t(b)];
+            e.box.resize(nl);
+            e.znear.assign(nl, kInf);
+            e.zfar.assign(nl, -kInf);
+            for (int y = win.y0 + int(b) * kBand; y < std::min(win.y1, win.y0 + int(b + 1) * kBand); ++y)
+                for (int x = win.x0; x < win.x1; ++x) {
+                    const std::size_t p = deep.pixel_index(x, y);
+                    const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
+                    for (std::size_t k = s0; k < s0 + n; ++k) {
+                        const std::size_t l = std::size_t(sl.layer_of[k]);
+                        Roi& bx = e.box[l];
+                        bx = bx.empty() ? Roi{x, y, x + 1, y + 1}
+                                        : Roi{std::min(bx.x0, x), std::min(bx.y0, y), std::max(bx.x1, x + 1), std::max(bx.y1, y + 1)};
+                        e.znear[l] = std::min(e.znear[l], double(z[k]));
+                        e.zfar[l] = std::max(e.zfar[l], double(z[k]));
+                    }
+                }
+        }
+    });
     LayerExtents e;
-    e.box.resize(std::size_t(sl.count));
-    e.znear.assign(std::size_t(sl.count), kInf);
-    e.zfar.assign(std::size_t(sl.count), -kInf);
-    for (int y = win.y0; y < win.y1; ++y)
-        for (int x = win.x0; x < win.x1; ++x) {
-            const std::size_t p = deep.pixel_index(x, y);
-            const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
-            for (std::size_t k = s0; k < s0 + n; ++k) {
-                const std::size_t l = std::size_t(sl.layer_of[k]);
-                e.box[l] = unite(e.box[l], Roi{x, y, x + 1, y + 1});
-                e.znear[l] = std::min(e.znear[l], double(z[k]));
-                e.zfar[l] = std::max(e.zfar[l], double(z[k]));
-            }
+    e.box.resize(nl);
+    e.znear.assign(nl, kInf);
+    e.zfar.assign(nl, -kInf);
+    for (const LayerExtents& b : band)
+        for (std::size_t l = 0; l < nl; ++l) {
+            e.box[l] = unite(e.box[l], b.box[l]);
+            e.znear[l] = std::min(e.znear[l], b.znear[l]);
+            e.zfar[l] = std::max(e.zfar[l], b.zfar[l]);
         }
     return e;
 }
@@ -276,7 +299,7 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
     if (!chr) return chr.status();
     std::unique_ptr<DeepLayers> D(new DeepLayers(deep, split));
     D->ch_ = *chr;
-    if (Status st = validate_samples(deep, D->ch_); !st) return st;
+    if (Status st = validate_samples(deep, D->ch_, exec); !st) return st;
     const std::size_t nsamples = deep.total_samples();
     const float* z = deep.samples(D->ch_.z);
     if (!sample_radius.empty() && sample_radius.size() != nsamples)
@@ -287,7 +310,7 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
                                   : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius));
     if (!sl) return sl.status();
     D->sl_ = std::move(sl).value();
-    D->ext_ = layer_extents(deep, z, D->sl_);
+    D->ext_ = layer_extents(deep, z, D->sl_, exec);
     if (extend && D->sl_.count >= 2 && !deep.data_window().empty()) {
         if (Status st = check_extend_options(*extend, deep.data_window()); !st) return st;
         D->extend_on_ = true;
@@ -432,7 +455,7 @@ Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
-    if (Status st = validate_samples(deep, ch); !st) return st;
+    if (Status st = validate_samples(deep, ch, exec); !st) return st;
     const Roi win = deep.data_window();
     Image out = Image::with_channels({"R", "G", "B", "A", "Z"}, win);
     out.set_display_window(deep.display_window());

@@ -213,30 +213,52 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     }, 16);
 
     // Every slice's box and depth range, and where each pixel is hidden (the
-    // slices behind the first that covers it).
-    L->box_.assign(std::size_t(ns), Roi{});
-    L->znear_.assign(std::size_t(ns), kInf);
-    L->zfar_.assign(std::size_t(ns), -kInf);
+    // slices behind the first that covers it). Bands of rows in parallel,
+    // each with its own extents, merged after (min and max: any order).
     ExtensionPlan& plan = L->plan_;
     plan.frame = win;
     plan.hidden_from.assign(n, ExtensionPlan::kNeverHidden);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            for (int k = 0; k < 2; ++k) {
-                const int s = k == 0 ? L->slice_[i] : L->fg_slice_[i];
-                if (s < 0) continue;
-                Part p;
-                L->part_of(i, s, p);
-                Roi& b = L->box_[std::size_t(s)];
-                b = b.empty() ? Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1}
-                              : Roi{std::min(b.x0, win.x0 + x), std::min(b.y0, win.y0 + y), std::max(b.x1, win.x0 + x + 1),
-                                    std::max(b.y1, win.y0 + y + 1)};
-                L->znear_[std::size_t(s)] = std::min(L->znear_[std::size_t(s)], double(p.z));
-                L->zfar_[std::size_t(s)] = std::max(L->zfar_[std::size_t(s)], double(p.z));
-                if (covers(p.rgb[0], p.rgb[1], p.rgb[2], p.alpha))
-                    plan.hidden_from[i] = std::min(plan.hidden_from[i], std::uint16_t(s + 1));
-            }
+    constexpr int kBand = 32;
+    const int nbands = (H + kBand - 1) / kBand;
+    struct Extent {
+        Roi box;
+        double znear = kInf, zfar = -kInf;
+    };
+    std::vector<Extent> band_extent(std::size_t(nbands) * std::size_t(ns));
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            Extent* e = band_extent.data() + std::size_t(b) * std::size_t(ns);
+            for (int y = int(b) * kBand; y < std::min(H, int(b + 1) * kBand); ++y)
+                for (int x = 0; x < W; ++x) {
+                    const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                    for (int k = 0; k < 2; ++k) {
+                        const int s = k == 0 ? L->slice_[i] : L->fg_slice_[i];
+                        if (s < 0) continue;
+                        Part p;
+                        L->part_of(i, s, p);
+                        Extent& x_e = e[s];
+                        Roi& bx = x_e.box;
+                        bx = bx.empty() ? Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1}
+                                        : Roi{std::min(bx.x0, win.x0 + x), std::min(bx.y0, win.y0 + y),
+                                              std::max(bx.x1, win.x0 + x + 1), std::max(bx.y1, win.y0 + y + 1)};
+                        x_e.znear = std::min(x_e.znear, double(p.z));
+                        x_e.zfar = std::max(x_e.zfar, double(p.z));
+                        if (covers(p.rgb[0], p.rgb[1], p.rgb[2], p.alpha))
+                            plan.hidden_from[i] = std::min(plan.hidden_from[i], std::uint16_t(s + 1));
+                    }
+                }
+        }
+    });
+    L->box_.assign(std::size_t(ns), Roi{});
+    L->znear_.assign(std::size_t(ns), kInf);
+    L->zfar_.assign(std::size_t(ns), -kInf);
+    for (int b = 0; b < nbands; ++b)
+        for (int s = 0; s < ns; ++s) {
+            const Extent& e = band_extent[std::size_t(b) * std::size_t(ns) + std::size_t(s)];
+            if (e.box.empty()) continue;
+            L->box_[std::size_t(s)] = unite(L->box_[std::size_t(s)], e.box);
+            L->znear_[std::size_t(s)] = std::min(L->znear_[std::size_t(s)], e.znear);
+            L->zfar_[std::size_t(s)] = std::max(L->zfar_[std::size_t(s)], e.zfar);
         }
     for (int s = 0; s < ns; ++s)
         if (!L->box_[std::size_t(s)].empty()) {
