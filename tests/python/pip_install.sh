@@ -3,7 +3,8 @@
 # then `import gdof` and the pytest suite against that install (not the
 # build tree): pip_install.sh WORK_DIR [PYTHON]. The build is lean: the
 # libraries and the module only (pyproject.toml), both cores, through ccache
-# when GDOF_LAUNCHER says so. Prints how long each step took.
+# when GDOF_LAUNCHER says so (GDOF_CXX: the compiler). Prints how long each
+# step took.
 set -euo pipefail
 unset PYTHONPATH  # the installed module, never the build tree's
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -17,9 +18,14 @@ base="$("$python" -c 'import sys; print(getattr(sys, "_base_executable", sys.exe
 "$base" -m venv "$work/venv"
 venv_python="$work/venv/bin/python"
 "$venv_python" -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
+# The compiler and launcher of the build under test: the libraries' files
+# then compile with the same command lines, and ccache serves them.
 args=()
 if [[ -n "${GDOF_LAUNCHER:-}" ]]; then
   args+=("--config-settings=cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$GDOF_LAUNCHER")
+fi
+if [[ -n "${GDOF_CXX:-}" ]]; then
+  args+=("--config-settings=cmake.define.CMAKE_CXX_COMPILER=$GDOF_CXX")
 fi
 t1=$SECONDS
 CMAKE_BUILD_PARALLEL_LEVEL=2 "$venv_python" -m pip install -q --disable-pip-version-check \
