@@ -12,6 +12,7 @@
 #include "gdof/camera.h"
 #include "gdof/deep.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/image_set.h"
 #include "gdof/plate.h"
@@ -82,7 +83,7 @@ struct LayerSplit {
 // "blur" = cut by blur, "blur=STEP" = cut by blur with that step in px,
 // "gaps" = no blur cuts; e.g. "auto:8:blur=3"), "N" (count, 1..1024), "id" /
 // "id:CHANNEL"; errors name the value.
-Result<LayerSplit> parse_layer_split(const std::string& text);
+GDOF_API Result<LayerSplit> parse_layer_split(const std::string& text);
 
 // Deep image -> layers: samples grouped by depth (or id); within a layer a
 // pixel's samples are sorted by Z (stored order may be anything; ties keep
@@ -98,8 +99,8 @@ Result<LayerSplit> parse_layer_split(const std::string& text);
 // samples); for ById only when ids do not interleave in depth.
 // `sample_radius` (optional, like SliceOptions::radius: empty, or one blur
 // radius per deep sample in sample order) drives Auto's blur cuts.
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
-                                            std::span<const float> sample_radius = {}, const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
+                                                     std::span<const float> sample_radius = {}, const Exec& exec = {});
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -115,7 +116,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
 // Deep parts become layers through layers_from_deep (Auto split). Names:
 // part name, "part.prefix", or the prefix for unnamed parts. No layer at
 // all is an error that says what was looked for.
-Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec = {});
 
 // Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
@@ -171,8 +172,8 @@ struct SliceOptions {
     bool continue_surfaces = false;
     double continuity = 1.05;  // neighbouring depth ratio within which a surface continues
 };
-Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
-                                                 const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
+                                                          const Exec& exec = {});
 
 // Extends layers behind the nearer layers that hide them: every layer but
 // the nearest gets, at its hidden pixels within `extend_px` of its own
@@ -201,8 +202,8 @@ struct ExtendOptions {
     // the occluder's blurred edge would reveal. Deep inputs.
     bool continue_coverage = false;
 };
-Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
-                            const Exec& exec = {});
+GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
+                                     const Exec& exec = {});
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
 // (float) and Z = depth of the nearest sample (NaN where there is none), over
@@ -210,13 +211,13 @@ Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame,
 // Samples are sorted by Z first; same sample rules and errors as
 // layers_from_deep. RGBA equals OIIO's ImageBufAlgo::flatten on sorted
 // files (OIIO's Z is an alpha-composited depth instead, 1e30 where empty).
-Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec = {});
+GDOF_API Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec = {});
 
 // Composites layers (front = index 0) back to front with `over` into an
 // image of float R, G, B, A over `window` (absolute pixels; display window:
 // the first layer's, else `window`); layers may have any data windows,
 // inside or outside it. Null entries are skipped; a layer without A is
 // opaque. Parallel over rows; the only error is cancellation.
-Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec = {});
+GDOF_API Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec = {});
 
 }  // namespace gdof
