@@ -33,7 +33,7 @@ enum class DefocusFilter { Diffusion, Bokeh };
 GDOF_API const char* to_string(DefocusFilter f);  // "diffusion", "bokeh"
 
 struct DefocusOptions {
-             DefocusFilter filter = DefocusFilter::Diffusion;
+    DefocusFilter filter = DefocusFilter::Diffusion;
     Aperture aperture;       // the bokeh filter's point-spread function (disc by default)
     DiffusionOptions diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
