@@ -7,7 +7,7 @@
 #include "camera_field.h"
 #include "cli.h"
 #include "gdof/blur_map.h"
-#include "gdof/io/image_io.h"
+#include "gdof/io/blur_field_io.h"
 #include "ops/ops.h"
 
 namespace gdof::cli {
@@ -98,17 +98,8 @@ void do_blurfield(Frame& f, const std::string& path) {
     StageTimer t(s.stats, "blurfield");
     const std::string text = read_flag_file("--blurfield", "file", path);
     std::error_code ec;
-    BlurField::Context ctx;
-    ctx.base_dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
-    // Painted masks are data: read without colour conversion.
-    ctx.load_image = [](const std::string& p) -> Result<std::shared_ptr<const Image>> {
-        io::ReadOptions ro;
-        ro.linearize = false;
-        auto r = io::read_flat(p, ro);
-        if (!r) return r.status();
-        return std::shared_ptr<const Image>(std::make_shared<Image>(std::move(r).value()));
-    };
-    auto r = BlurField::parse(text, ctx);
+    const std::string dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
+    auto r = io::parse_blur_field(text, dir);  // image_map masks read from disk, as data
     if (!r) runtime_error("--blurfield '" + path + "': " + r.message());
     auto st = std::make_shared<BlurState>();
     st->path = path;

@@ -15,14 +15,6 @@ namespace gdof::cli {
 
 namespace {
 
-// The part whose camera and display window the result takes (as defocus()
-// does: the first deep part, else the first part).
-std::size_t reference_part(const ImageSet& set) {
-    for (std::size_t i = 0; i < set.size(); ++i)
-        if (set.is_deep(i)) return i;
-    return 0;
-}
-
 const char* op_flag(DefocusFilter filter) { return filter == DefocusFilter::Bokeh ? "--bokeh" : "--diffuse"; }
 
 void report_defocus(Frame& f, const std::string& flag, const std::string& where, const DefocusStats& stats) {
@@ -49,7 +41,7 @@ void report_defocus(Frame& f, const std::string& flag, const std::string& where,
 ImageSet diffuse_view(Frame& f, const ImageSet& images, const std::string& where) {
     Session& s = *f.session;
     const std::string flag = op_flag(f.defocus.filter);
-    const std::size_t ref = reference_part(images);
+    const std::size_t ref = defocus_reference_part(images);
     const Camera camera = image_camera(f, images, ref, flag, where);
     const BlurField field = field_for(f, camera, flag, where);
     DefocusOptions options = f.defocus;

@@ -12,7 +12,7 @@
 #     [DEPENDS <capabilities>]     the capabilities it may use (declared before it)
 #     [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
 #
-# Creates the static (or shared) library gdof_<name>. At configure time every
+# Creates the static (or, with BUILD_SHARED_LIBS, shared) library gdof_<name>. At configure time every
 # #include "..." of its sources and of its public headers is checked: a
 # public header ("gdof/x.h") or a private one ("folder/x.h") must belong to
 # the capability itself or to one it depends on, directly or through others;
@@ -67,6 +67,8 @@ function(_gdof_check_includes name file allowed roots)
   endforeach()
 endfunction()
 
+include(${CMAKE_CURRENT_LIST_DIR}/gdofInstallRpath.cmake)
+
 function(gdof_capability name)
   cmake_parse_arguments(C "" "DIR" "HEADERS;DEPENDS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
   # The transitive closure of the dependencies, plus the capability itself.
@@ -109,7 +111,16 @@ function(gdof_capability name)
   endforeach()
 
   add_library(gdof_${name} ${sources})
-  set_target_properties(gdof_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME gdof_${name})
+  # Hidden symbols, static or shared: a shared library exports what
+  # gdof/export.h's GDOF_API marks. No <target>_EXPORTS define, so a static
+  # and a shared build compile every file with the same command line (ccache
+  # serves one from the other).
+  set_target_properties(gdof_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME gdof_${name}
+    CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON DEFINE_SYMBOL ""
+    VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
+  gdof_install_rpath(gdof_${name} ${CMAKE_INSTALL_LIBDIR})
+  # Consumers of the installed package get C++20 from the targets themselves.
+  target_compile_features(gdof_${name} PUBLIC cxx_std_20)
   target_include_directories(gdof_${name}
     PUBLIC $<BUILD_INTERFACE:${GDOF_CAP_INCLUDE_ROOT}> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
     PRIVATE ${roots})

@@ -1,5 +1,15 @@
-# ctest driver: install the built gdof into a scratch prefix, then configure,
-# build and run the consumer project against that prefix only.
+# ctest driver: install gdof into a scratch prefix, then configure, build and
+# run the consumer project against that prefix only.
+#   MODE=static  installs the build under test (GDOF_BINARY_DIR).
+#   MODE=shared  first builds the same sources with BUILD_SHARED_LIBS=ON (the
+#                libraries, the CLI, and the OFX bundle and the Python module
+#                when the build under test has them; kept in SHARED_BUILD_DIR
+#                between runs), installs that, and checks the shared layout:
+#                no static library installed, the installed CLI runs from its
+#                RUNPATH (and so do the OFX bundle and the Python module),
+#                and every gdof function a library exports is declared in a
+#                public header (or one of the private headers another gdof
+#                library uses).
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run_step)
@@ -7,10 +17,112 @@ function(run_step)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "step failed (${rc}): ${ARGN}\n${out}\n${err}")
   endif()
+  set(step_output "${out}" PARENT_SCOPE)
 endfunction()
-run_step(${CMAKE_COMMAND} --install "${GDOF_BINARY_DIR}" --prefix "${WORK_DIR}/prefix")
+function(cache_value name out)
+  file(STRINGS "${GDOF_BINARY_DIR}/CMakeCache.txt" line REGEX "^${name}:[A-Z]+=")
+  string(REGEX REPLACE "^[^=]*=" "" v "${line}")
+  set(${out} "${v}" PARENT_SCOPE)
+endfunction()
+
+set(prefix "${WORK_DIR}/prefix")
+if(MODE STREQUAL "shared")
+  set(args -DBUILD_SHARED_LIBS=ON -DGDOF_BUILD_TESTS=OFF -DCMAKE_BUILD_TYPE=Release)
+  foreach(name CMAKE_CXX_COMPILER_LAUNCHER GDOF_WITH_EMBREE GDOF_BUILD_OFX OFX_INCLUDE_DIR GDOF_BUILD_PYTHON
+               Python_EXECUTABLE)
+    cache_value(${name} v)
+    if(NOT v STREQUAL "")
+      list(APPEND args "-D${name}=${v}")
+    endif()
+  endforeach()
+  run_step(${CMAKE_COMMAND} -S "${GDOF_SOURCE_DIR}" -B "${SHARED_BUILD_DIR}" -G "${CMAKE_GENERATOR}" ${args})
+  run_step(${CMAKE_COMMAND} --build "${SHARED_BUILD_DIR}" -j 2)
+  run_step(${CMAKE_COMMAND} --install "${SHARED_BUILD_DIR}" --prefix "${prefix}")
+else()
+  run_step(${CMAKE_COMMAND} --install "${GDOF_BINARY_DIR}" --prefix "${prefix}")
+endif()
+
+# The layout: bin, lib, include, the CMake package.
+file(GLOB libdirs "${prefix}/lib*")
+file(GLOB_RECURSE configs "${prefix}/*/gdofConfig.cmake")
+foreach(f "${prefix}/bin/gdof" "${prefix}/include/gdof/export.h" "${prefix}/include/gdof/io/image_io.h" ${configs})
+  if(NOT EXISTS "${f}")
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+if(NOT configs)
+  message(FATAL_ERROR "no gdofConfig.cmake under ${prefix}")
+endif()
+file(GLOB_RECURSE static_libs "${prefix}/*libgdof_*.a")
+file(GLOB_RECURSE shared_libs "${prefix}/*libgdof_*.so")
+if(MODE STREQUAL "shared")
+  if(static_libs OR NOT shared_libs)
+    message(FATAL_ERROR "a shared install has static libraries or no shared ones: ${static_libs}")
+  endif()
+  # The installed CLI finds its libraries from its RUNPATH (no LD_LIBRARY_PATH).
+  run_step("${prefix}/bin/gdof" --version)
+  # Exports: each gdof function or class a library exports is named in a
+  # public header or an exported private one (GDOF_API, gdof/export.h).
+  file(GLOB_RECURSE headers "${GDOF_SOURCE_DIR}/lib/include/*.h" "${GDOF_SOURCE_DIR}/lib/io/include/*.h")
+  file(GLOB_RECURSE private_headers "${GDOF_SOURCE_DIR}/lib/src/*.h" "${GDOF_SOURCE_DIR}/lib/io/src/*.h")
+  foreach(h IN LISTS private_headers)
+    file(READ "${h}" text)
+    if(text MATCHES "GDOF_API")
+      list(APPEND headers "${h}")
+    endif()
+  endforeach()
+  set(declared "")
+  foreach(h IN LISTS headers)
+    file(READ "${h}" text)
+    string(APPEND declared "${text}")
+  endforeach()
+  set(count 0)
+  foreach(lib IN LISTS shared_libs)
+    run_step(nm -DC --defined-only "${lib}")
+    string(REGEX MATCHALL "\n[0-9a-f]+ [TW] gdof::[A-Za-z0-9_:]+\\(" symbols "\n${step_output}")
+    foreach(s IN LISTS symbols)
+      string(REGEX REPLACE ".* gdof::([A-Za-z0-9_:]+)\\($" "\\1" qualified "${s}")
+      string(REGEX REPLACE "^.*::" "" name "${qualified}")
+      string(REGEX REPLACE "^~" "" name "${name}")
+      if(NOT declared MATCHES "[^A-Za-z0-9_]${name}[^A-Za-z0-9_]")
+        message(FATAL_ERROR "${lib} exports gdof::${qualified}, which no public header declares")
+      endif()
+      math(EXPR count "${count} + 1")
+    endforeach()
+  endforeach()
+  message(STATUS "cmake_consumer: ${count} exported gdof functions, all declared in public headers")
+  # The OFX bundle and the Python module find the shared libraries too.
+  file(GLOB_RECURSE bundles "${prefix}/*gdof.ofx")
+  foreach(b IN LISTS bundles)
+    run_step(ldd "${b}")
+    if(step_output MATCHES "not found" OR NOT step_output MATCHES "libgdof_diffusion\\.so")
+      message(FATAL_ERROR "${b} does not load the installed gdof libraries:\n${step_output}")
+    endif()
+  endforeach()
+  file(GLOB_RECURSE modules "${prefix}/*/gdof/_gdof*.so")
+  cache_value(Python_EXECUTABLE python)
+  foreach(mod IN LISTS modules)
+    get_filename_component(pkg "${mod}" DIRECTORY)
+    get_filename_component(site "${pkg}" DIRECTORY)
+    run_step(${CMAKE_COMMAND} -E env "PYTHONPATH=${site}" "${python}" -c
+             "import gdof; r = gdof.Roi(0, 0, 2, 2); i = gdof.Image(['R'], r); print(gdof.__file__, i)")
+    message(STATUS "cmake_consumer: the installed module imports: ${step_output}")
+    if(NOT step_output MATCHES "${site}")
+      message(FATAL_ERROR "the installed module was not the one imported: ${step_output}")
+    endif()
+  endforeach()
+elseif(NOT static_libs)
+  message(FATAL_ERROR "no static gdof library installed under ${prefix}")
+endif()
+
 run_step(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build" -G "${CMAKE_GENERATOR}"
-         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
+         -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release)
 run_step(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run_step("${WORK_DIR}/build/consumer" "${WORK_DIR}")
-message(STATUS "cmake_consumer: installed package found, linked and ran")
+if(MODE STREQUAL "shared")
+  run_step(ldd "${WORK_DIR}/build/consumer")
+  if(NOT step_output MATCHES "libgdof_io_images\\.so")
+    message(FATAL_ERROR "the consumer does not load the shared gdof libraries:\n${step_output}")
+  endif()
+endif()
+message(STATUS "cmake_consumer (${MODE}): installed package found, linked and ran")

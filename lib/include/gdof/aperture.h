@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -49,32 +50,32 @@ struct Aperture {
     bool colour() const { return kind == Kind::Image && image.nchannels() >= 3; }
 };
 
-const char* to_string(Aperture::Kind kind);  // "disc", "polygon", "image"
+GDOF_API const char* to_string(Aperture::Kind kind);  // "disc", "polygon", "image"
 
 // Checks the values (blades >= 3, roundness and cats_eye in [0, 1],
 // squeeze > 0, finite rotation; an image kernel that is non-empty, finite,
 // non-negative and not all zero): errors name the key.
-Status validate(const Aperture& aperture);
+GDOF_API Status validate(const Aperture& aperture);
 
 // The CLI form: "disc" | "polygon:BLADES[:ROTATION_DEG]" | "image:FILE",
 // followed by ",key=value" for roundness, squeeze, cats_eye (and rotation for
 // image). The image is not read: `image_path` is set, the caller loads it.
 // Errors name the unknown shape, key or malformed number.
-Result<Aperture> parse_aperture(const std::string& spec);
+GDOF_API Result<Aperture> parse_aperture(const std::string& spec);
 // The same form back ("polygon:6:15,roundness=0.2").
-std::string format_aperture(const Aperture& aperture);
+GDOF_API std::string format_aperture(const Aperture& aperture);
 
 // Whether unit-shape point (u, v) lies inside disc / polygon (roundness,
 // squeeze and rotation applied; not the cat's eye). For Image, the kernel's
 // luminance > 0.
-bool aperture_contains(const Aperture& aperture, double u, double v);
+GDOF_API bool aperture_contains(const Aperture& aperture, double u, double v);
 
 // The shape's extent row by row, for filters that spread spans: the unit
 // shape (squeeze included, cat's eye not) tabulated over v in [-1, 1] with
 // its left and right edges and their integrals, so the average edges over
 // any horizontal strip come from two look-ups. Disc and polygon only (an
 // image kernel is no span per row).
-class ApertureProfile {
+class GDOF_API ApertureProfile {
 public:
     static Result<ApertureProfile> create(const Aperture& aperture);
 
@@ -105,11 +106,11 @@ struct ApertureKernel {
     std::vector<float> weights;  // [channel][row][column], rows down
     const float* plane(int c) const { return weights.data() + std::size_t(c) * std::size_t(2 * half + 1) * std::size_t(2 * half + 1); }
 };
-Result<ApertureKernel> rasterize_aperture(const Aperture& aperture, double radius_px);
+GDOF_API Result<ApertureKernel> rasterize_aperture(const Aperture& aperture, double radius_px);
 
 // The aperture as a mask image (size x size, channel "A", coverage
 // supersampled), for samplers that take masks: polygons with roundness or
 // squeeze, squeezed or turned images. Not the cat's eye.
-Image aperture_mask_image(const Aperture& aperture, int size = 256);
+GDOF_API Image aperture_mask_image(const Aperture& aperture, int size = 256);
 
 }  // namespace gdof

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gdof/camera.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -34,7 +35,7 @@ struct DepthInterval {
 // B along a pixel's central ray as a polyline in depth. Vertices are sorted by
 // depth (a step in B gives two vertices a relative 1e-9 apart); the polyline
 // interpolates B linearly in depth (= linearly along the ray).
-struct RayProfile {
+struct GDOF_API RayProfile {
     enum Kind : std::uint8_t {
         Sample = 0,      // added by adaptive subdivision of a curved part
         Breakpoint = 1,  // a kink, a region boundary crossing, a range end, ...
@@ -59,7 +60,7 @@ struct RayProfileOptions {
 };
 
 // Depth intervals along a central ray where B <= the acceptable CoC.
-struct InFocusIntervals {
+struct GDOF_API InFocusIntervals {
     std::vector<DepthInterval> intervals;  // sorted, disjoint; far may be +inf
     double min_depth = 0;                  // depth of the smallest B found (first if several)
     double min_radius = 0;                 // that smallest B
@@ -69,7 +70,7 @@ struct InFocusIntervals {
     DepthInterval primary() const;
 };
 
-class BlurField {
+class GDOF_API BlurField {
 public:
     // Supplies the images an image_map refers to (core does no file I/O).
     struct Context {

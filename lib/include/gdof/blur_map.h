@@ -13,6 +13,7 @@
 #include "gdof/camera.h"
 #include "gdof/deep.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -34,9 +35,9 @@ struct PositionSource {
 
 // Position channels per the source, nullopt if the image has none (automatic
 // mode); an error naming what is missing when they were asked for by name.
-Result<std::optional<std::array<int, 3>>> find_position_channels(const Image& img, const std::string& spec);
+GDOF_API Result<std::optional<std::array<int, 3>>> find_position_channels(const Image& img, const std::string& spec);
 // Depth channel index, -1 if none (automatic mode); an error naming it if asked for by name.
-Result<int> find_depth_channel(const Image& img, const std::string& name);
+GDOF_API Result<int> find_depth_channel(const Image& img, const std::string& name);
 
 // Evaluates B over the data window of `img` into `out` (one channel over
 // exactly that window, any strides: Image::channel_view of an output channel,
@@ -46,13 +47,13 @@ Result<int> find_depth_channel(const Image& img, const std::string& name);
 // environment: P = NaN, Z = +inf) -- takes B at infinite depth when the image
 // also has a depth channel. Error if neither exists (naming the channels
 // looked for). Parallel over rows; result independent of the thread count.
-Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
-                         const ImageView& out, const Exec& exec = {});
+GDOF_API Status evaluate_blur_map(const BlurField& field, const Camera& camera, const Image& img, const PositionSource& source,
+                                  const ImageView& out, const Exec& exec = {});
 
 // Evaluates B for every sample of a deep image from its pixel centre and the
 // sample's depth channel (z_channel < 0: the image's Z), into `out`, one
 // value per sample in sample order (an error unless it has total_samples()).
-Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel,
-                          std::span<float> out, const Exec& exec = {});
+GDOF_API Status evaluate_blur_deep(const BlurField& field, const Camera& camera, const DeepImage& img, int z_channel,
+                                   std::span<float> out, const Exec& exec = {});
 
 }  // namespace gdof

@@ -24,6 +24,7 @@
 
 #include "gdof/aperture.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -31,7 +32,7 @@ namespace gdof {
 
 // An aperture prepared for spreading (its row profile or its kernels at
 // every radius a level uses). Immutable, shared by the threads and layers.
-class BokehFilter {
+class GDOF_API BokehFilter {
 public:
     static Result<BokehFilter> create(const Aperture& aperture);
     const Aperture& aperture() const;
@@ -48,7 +49,7 @@ private:
 // channel over the same window, finite and >= 0; errors name the pixel).
 // `frame` is the display window, whose centre and half diagonal set the
 // cat's eye (empty: the planes' window). Bit-identical for any thread count.
-Status spread_planes(const ImageView& planes, const ConstImageView& radius, const BokehFilter& filter,
-                     const Roi& frame, const Exec& exec = {});
+GDOF_API Status spread_planes(const ImageView& planes, const ConstImageView& radius, const BokehFilter& filter,
+                              const Roi& frame, const Exec& exec = {});
 
 }  // namespace gdof

@@ -20,6 +20,7 @@
 #include <span>
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/math.h"
 #include "gdof/metadata.h"
@@ -35,7 +36,7 @@ namespace gdof {
 // radii in output pixels: the sensor CoC diameter c (mm) is
 //     c = (f / N) * f * |z - s| / (z * (s - f))      (f, z, s in mm)
 // and radius_px = c / 2 * image_width_px / sensor_width_mm.
-struct ThinLens {
+struct GDOF_API ThinLens {
     double focal_length_mm = 50.0;
     double f_number = 2.8;
     double focus_distance = 2.0;  // scene units
@@ -85,8 +86,8 @@ struct ThinLens {
 //         cameras, else PosZ (see docs/camera.md).
 enum class ForwardAxis { Auto, PosZ, NegZ };
 enum class Projection { Perspective, Orthographic };
-const char* to_string(ForwardAxis a);
-const char* to_string(Projection p);
+GDOF_API const char* to_string(ForwardAxis a);
+GDOF_API const char* to_string(Projection p);
 
 // Optional lens data a camera carries (NaN = unknown). Written to and read
 // from EXR lens attributes; the thin_lens blur field can be built from it.
@@ -115,7 +116,7 @@ enum class Handedness {
     // origin, looking down +z) uses it: its world is its camera space.
     Left,
 };
-const char* to_string(Handedness h);
+GDOF_API const char* to_string(Handedness h);
 
 // An explicit camera description.
 struct CameraDesc {
@@ -170,7 +171,7 @@ struct DepthLine {
     Vec3 at(double depth) const { return origin + per_depth * depth; }
 };
 
-class Camera {
+class GDOF_API Camera {
 public:
     Camera() = default;  // identity camera, 1x1 display window; use a factory
 
@@ -262,7 +263,7 @@ struct LensOverrides {
 // world = camera space: world +x is right in the image, +y up, depth = z
 // (worldToCamera is the identity, as in OpenEXR / RenderMan); otherwise an
 // error says what is missing.
-Result<Camera> resolve_camera(const Metadata& md, const Roi& display_window, const LensOverrides& overrides = {});
+GDOF_API Result<Camera> resolve_camera(const Metadata& md, const Roi& display_window, const LensOverrides& overrides = {});
 
 // ---------------------------------------------------------------------------
 // Depth encodings -> metric depth (scene units along the viewing axis)
@@ -282,9 +283,9 @@ enum class DepthEncoding {
     // disparity maps store 0 for "unknown").
     Disparity,
 };
-const char* to_string(DepthEncoding e);
+GDOF_API const char* to_string(DepthEncoding e);
 // Parses "metric", "inverse", "scaled", "near_far_linear", "near_far_inverse", "disparity".
-Result<DepthEncoding> parse_depth_encoding(const std::string& name);
+GDOF_API Result<DepthEncoding> parse_depth_encoding(const std::string& name);
 
 // How a depth channel's stored values become metric depth, and what an
 // invalid value (no measurement) becomes.
@@ -296,7 +297,7 @@ Result<DepthEncoding> parse_depth_encoding(const std::string& name);
 // surroundings, plate.h), or +inf, **sky** (infinitely far: what a user
 // chooses for a depth sensor's out-of-range sky). An explicit +inf (a
 // renderer's sky, Inverse 0) is always sky.
-struct DepthDecode {
+struct GDOF_API DepthDecode {
     DepthEncoding encoding = DepthEncoding::Metric;
     double scale = 1.0;
     double near = 0.0, far = 0.0;  // NearFar* only (scene units), 0 < near < far
@@ -321,20 +322,20 @@ struct DepthDecode {
 
 // The decode with what it needs from the camera filled in (Disparity with a
 // baseline: the camera's horizontal focal length in pixels).
-Result<DepthDecode> resolve_depth_decode(const DepthDecode& d, const Camera& camera);
+GDOF_API Result<DepthDecode> resolve_depth_decode(const DepthDecode& d, const Camera& camera);
 
 // One stored value -> depth (scene units). Invalid values -> `invalid`; a
 // Disparity decode must be resolved (resolve_depth_decode) or carry its
 // f_px x baseline in `scale`.
-double decode_depth(double v, const DepthDecode& d);
+GDOF_API double decode_depth(double v, const DepthDecode& d);
 // In place over a whole plane.
-void decode_depth(std::span<float> values, const DepthDecode& d);
+GDOF_API void decode_depth(std::span<float> values, const DepthDecode& d);
 
 // Depth map channel + camera -> world positions: an image with float channels
 // P.x, P.y, P.z over the depth image's data window (display window kept).
 // Pixel (i, j) is taken at its centre (i + 0.5, j + 0.5). A non-finite depth
 // (invalid, or +inf sky) gives P = (NaN, NaN, NaN): there is no finite point.
-Result<Image> depth_to_positions(const Image& depth_image, int channel, const Camera& camera,
-                                 const DepthDecode& decode = {});
+GDOF_API Result<Image> depth_to_positions(const Image& depth_image, int channel, const Camera& camera,
+                                          const DepthDecode& decode = {});
 
 }  // namespace gdof

@@ -33,6 +33,7 @@
 
 #include "gdof/blur_field.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/focus_surfaces.h"
 #include "gdof/image.h"
@@ -52,14 +53,14 @@ struct Deviation {
 };
 // The paper's deviation between a desired and a reference interval (NaN in
 // the desired interval: 2 infinite terms, never chosen over a real match).
-Deviation stack_deviation(double near_desired, double far_desired, double near_ref, double far_ref);
+GDOF_API Deviation stack_deviation(double near_desired, double far_desired, double near_ref, double far_ref);
 
 // The references' (near, far) pairs, indexed once: sorted by near in two
 // groups (finite far, infinite far); a query walks outward from the desired
 // near and stops when |near_desired - near_ref| alone exceeds the k-th best
 // deviation found, so it usually looks at a handful of references whatever
 // the stack size. Exact: equal to a brute-force search, ties included.
-class StackIndex {
+class GDOF_API StackIndex {
 public:
     StackIndex() = default;
     // refs[i] = (near, far) of reference i; near finite and >= 0, far >= near (may be +inf).
@@ -97,7 +98,7 @@ struct CompositeOptions {
 };
 
 // The choice of every pixel of a window (local coordinates [0, w) x [0, h)).
-struct StackSelection {
+struct GDOF_API StackSelection {
     Roi window;
     int k = 1;                       // candidates stored per pixel
     std::vector<std::int32_t> index; // npixels * k, best first; -1 = none
@@ -109,8 +110,8 @@ struct StackSelection {
 };
 
 // Step 2: no pixel data is touched.
-Result<StackSelection> select_references(const StackIndex& index, const DesiredFocus& desired,
-                                         const CompositeOptions& settings = {}, const Exec& exec = {});
+GDOF_API Result<StackSelection> select_references(const StackIndex& index, const DesiredFocus& desired,
+                                                  const CompositeOptions& settings = {}, const Exec& exec = {});
 
 // What a reference is: its pixel grid (the stack's local pixel (x, y) is
 // (data_window.x0 + x, data_window.y0 + y)) and header.
@@ -122,7 +123,7 @@ struct ReferenceInfo {
 // Where reference pixels come from. read_tile is called concurrently from
 // several threads (for different tiles) and must be thread-safe; info and
 // prepare are called from the caller's thread only.
-class StackPixels {
+class GDOF_API StackPixels {
 public:
     virtual ~StackPixels() = default;
     virtual int size() const = 0;  // number of references
@@ -145,7 +146,7 @@ public:
 // References held in memory (tests). All images must have the same data
 // window size; pixel (x, y) of the stack is pixel (x0 + x, y0 + y) of each
 // image's data window. Counts reads per reference.
-class MemoryStackPixels : public StackPixels {
+class GDOF_API MemoryStackPixels : public StackPixels {
 public:
     explicit MemoryStackPixels(std::vector<const Image*> images);
     int size() const override { return int(images_.size()); }
@@ -163,7 +164,7 @@ private:
 // premultiplied, in absolute coordinates; pixel (x, y) of the stack is
 // (grid.x0 + x, grid.y0 + y), and where a view has no pixel every channel
 // (alpha too) reads 0. info() is the grid for every reference.
-class ViewStackPixels : public StackPixels {
+class GDOF_API ViewStackPixels : public StackPixels {
 public:
     ViewStackPixels(std::vector<ConstImageView> views, const Roi& grid);
     int size() const override { return int(views_.size()); }
@@ -188,9 +189,9 @@ struct CompositeStats {
 // Step 3: an image with float channels R, G, B, A (+ the AOVs) over the
 // selection's window moved to `origin` (the references' data window origin).
 // Display window = data window (callers set the references' one).
-Result<Image> composite_stack(const StackSelection& selection, StackPixels& pixels, const CompositeOptions& settings = {},
-                              int origin_x = 0, int origin_y = 0, CompositeStats* stats = nullptr,
-                              const Exec& exec = {});
+GDOF_API Result<Image> composite_stack(const StackSelection& selection, StackPixels& pixels, const CompositeOptions& settings = {},
+                                       int origin_x = 0, int origin_y = 0, CompositeStats* stats = nullptr,
+                                       const Exec& exec = {});
 
 // ---- The whole method ----
 
@@ -242,12 +243,12 @@ struct CompositeTarget {
 // reference, less the lens focus attributes (focusDistance, focus, fNumber,
 // aperture: no single lens describes the result). An error if no pixel
 // selects a reference (the desired near/far are all NaN).
-Result<Image> composite(const FocalStack& stack, const FocusSource& focus, StackPixels& pixels,
-                        const CompositeOptions& options = {}, CompositeStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Result<Image> composite(const FocalStack& stack, const FocusSource& focus, StackPixels& pixels,
+                                 const CompositeOptions& options = {}, CompositeStats* stats = nullptr, const Exec& exec = {});
 // A region of the result into target.view, equal to the crop of the whole
 // (at a render scale: to its reduction); the references' grid is reference
 // 0's data window. Where nothing is selected the region is 0 (no error).
-Status composite(const FocalStack& stack, const FocusSource& focus, StackPixels& pixels, const CompositeTarget& target,
-                 const CompositeOptions& options = {}, CompositeStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Status composite(const FocalStack& stack, const FocusSource& focus, StackPixels& pixels, const CompositeTarget& target,
+                          const CompositeOptions& options = {}, CompositeStats* stats = nullptr, const Exec& exec = {});
 
 }  // namespace gdof

@@ -8,12 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
 namespace gdof {
 
-class DeepImage {
+class GDOF_API DeepImage {
 public:
     DeepImage() = default;
     DeepImage(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window);

@@ -18,6 +18,7 @@
 #include "gdof/camera.h"
 #include "gdof/diffusion.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image_set.h"
 #include "gdof/layers.h"
 #include "gdof/plate.h"
@@ -29,7 +30,7 @@ namespace gdof {
 // diffusion.h) or the bokeh filter (the aperture's shape, bokeh.h). Both run
 // in the same pipeline: layers, extrapolated radii, back-to-front `over`.
 enum class DefocusFilter { Diffusion, Bokeh };
-const char* to_string(DefocusFilter f);  // "diffusion", "bokeh"
+GDOF_API const char* to_string(DefocusFilter f);  // "diffusion", "bokeh"
 
 struct DefocusOptions {
     DefocusFilter filter = DefocusFilter::Diffusion;
@@ -51,7 +52,7 @@ struct DefocusOptions {
     Roi roi;
 };
 
-struct DefocusStats {
+struct GDOF_API DefocusStats {
     int layers = 0;
     int layers_empty = 0;      // no coverage: cost nothing
     int layers_sharp = 0;      // largest blur 0: passed through untouched
@@ -71,25 +72,30 @@ struct DefocusStats {
 // RoI / RoD actions). A blur of CoC radius R is a Gaussian of sigma = R / 2;
 // its spread is 3 sigma (+1 px for the discrete stencil):
 //   defocus_margin(R) = ceil(1.5 R) + 1 for R > 0, 0 for R <= 0 (or NaN).
-int defocus_margin(double max_radius_px);
+GDOF_API int defocus_margin(double max_radius_px);
 // The input region needed to compute `output`: output grown by the margin of
 // the largest blur radius. (Pixels of a layer outside it cannot reach the
 // output by more than the Gaussian's 3-sigma tail.)
-Roi defocus_input_region(const Roi& output, double max_radius_px);
+GDOF_API Roi defocus_input_region(const Roi& output, double max_radius_px);
 // The output domain (RoD) of an input data window: the window grown by the
 // margin, clipped to the frame (display window ∪ input data window). Empty
 // in, empty out.
-Roi defocus_output_region(const Roi& input_data_window, const Roi& display_window, double max_radius_px);
+GDOF_API Roi defocus_output_region(const Roi& input_data_window, const Roi& display_window, double max_radius_px);
 
 // Defocuses prepared layers (front = index 0). Output: float R, G, B, A
 // (premultiplied) over settings.roi or the whole result. From a source, the
 // whole result is made one layer at a time, back to front (each layer made,
 // diffused, composited and dropped: one layer's pixels in memory at once); a
 // sub-region makes every layer first (all their blurs set the region needed).
-Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
-                             const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
-Result<Image> defocus_layers(const LayerSource& layers, const BlurField& field, const Camera& camera,
-                             const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                                      const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Result<Image> defocus_layers(const LayerSource& layers, const BlurField& field, const Camera& camera,
+                                      const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+
+// The part of a defocus() input whose camera, display window and metadata
+// the result takes: the first deep part, else the first part. Front ends
+// resolve the camera from it.
+GDOF_API std::size_t defocus_reference_part(const ImageSet& input);
 
 // Defocuses a whole file's contents: a deep part -> layers_from_deep; several
 // RGBA layers/parts with P or Z -> layers_from_parts; a single flat RGBA with
@@ -97,7 +103,7 @@ Result<Image> defocus_layers(const LayerSource& layers, const BlurField& field, 
 // (with each colour channel's input type), the input's display window and
 // metadata; other channels of a flat input (Z, P, N, ids) are carried over
 // unchanged on the new data window (zero where the input had no data).
-Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
-                         const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
+                                  const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
 
 }  // namespace gdof

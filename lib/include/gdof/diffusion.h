@@ -16,6 +16,7 @@
 #include <cmath>
 
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -26,11 +27,11 @@ enum class DiffusionSolver {
     Adi,       // implicit alternating-direction sweeps (Thomas): cost independent of R
     Auto,      // the cheaper of the two for the largest radius (choose_solver)
 };
-const char* to_string(DiffusionSolver s);
-Result<DiffusionSolver> parse_diffusion_solver(const char* name);  // "auto" | "explicit" | "adi"
+GDOF_API const char* to_string(DiffusionSolver s);
+GDOF_API Result<DiffusionSolver> parse_diffusion_solver(const char* name);  // "auto" | "explicit" | "adi"
 
 struct DiffusionOptions {
-    DiffusionSolver solver = DiffusionSolver::Auto;
+             DiffusionSolver solver = DiffusionSolver::Auto;
     // ADI: implicit sub-steps, each an x sweep then a y sweep. One step already
     // has the exact variance; more steps bring the kernel's shape closer to a
     // Gaussian (excess kurtosis of the 1D kernel is about 3 / steps for large
@@ -54,9 +55,9 @@ inline double diffusivity_from_radius(double radius_px) { return radius_px * rad
 // (float) diffusivity of a map.
 inline double radius_from_diffusivity(double d) { return std::sqrt(8.0 * d); }
 // Number of explicit iterations needed for a largest radius.
-int explicit_iterations(double max_radius_px, const DiffusionOptions& settings);
+GDOF_API int explicit_iterations(double max_radius_px, const DiffusionOptions& settings);
 // Number of ADI sub-steps used for a largest radius.
-int adi_steps_for(double max_radius_px, const DiffusionOptions& settings);
+GDOF_API int adi_steps_for(double max_radius_px, const DiffusionOptions& settings);
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
 // iterations; both scale with the pixel count, so the ratio holds at any
 // size. Measured by tests/bench/bench_solvers (docs/diffusion.md, "auto").
@@ -65,7 +66,7 @@ inline constexpr double kAdiStepCost = 2.0;
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
 // (with the default settings: R <= 15.6 px), else ADI. Both give the same
 // Gaussian within 1% relative L2, so the choice only changes the run time.
-DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings);
+GDOF_API DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings);
 
 // Diffuses the channels of `planes` in place over its window, with the
 // per-pixel blur radius map `radius` (one channel over the same window; an
@@ -75,14 +76,14 @@ DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& sett
 // the window's origin); Inf is an error too. Radius 0 everywhere leaves the
 // planes bit-identical. Results do not depend on exec.nthreads. Auto is
 // resolved by the map's largest radius.
-Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, const DiffusionOptions& settings,
-                      const Exec& exec = {});
+GDOF_API Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, const DiffusionOptions& settings,
+                               const Exec& exec = {});
 
 // The two solvers, on diffusivities (D per pixel, one channel over the
 // planes' window, already validated: finite and >= 0).
-Status diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
-                        const Exec& exec = {});
-Status diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
-                   const Exec& exec = {});
+GDOF_API Status diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                                 const Exec& exec = {});
+GDOF_API Status diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
+                            const Exec& exec = {});
 
 }  // namespace gdof

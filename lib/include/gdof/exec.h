@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -22,19 +23,19 @@ struct Exec {
 
 // Runs f(begin, end) over [0, n) in parallel chunks on nthreads (TBB arena).
 // Returns false if cancelled. Chunking never affects results.
-bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain = 1);
+GDOF_API bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain = 1);
 
 // The same for work that can fail: f(begin, end) returns a Status. Chunks
 // after a failure are skipped; the error returned is the one of the
 // lowest-indexed failing chunk, so the message does not depend on the thread
 // count. Cancellation gives Status::cancelled(what).
-Status parallel_run(const Exec& exec, long n, const std::function<Status(long, long)>& f, long grain = 1,
-                    const std::string& what = {});
+GDOF_API Status parallel_run(const Exec& exec, long n, const std::function<Status(long, long)>& f, long grain = 1,
+                             const std::string& what = {});
 
 // Process-wide: keep freed large blocks in the heap for reuse instead of
 // returning them to the system (glibc; elsewhere a no-op). For applications
 // that own their process (the gdof CLI calls it at start, the benchmarks
 // do); a plug-in must leave its host's allocator alone.
-void keep_freed_memory();
+GDOF_API void keep_freed_memory();
 
 }  // namespace gdof

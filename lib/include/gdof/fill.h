@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 
 namespace gdof {
@@ -16,6 +17,6 @@ namespace gdof {
 // weight, when there are no planes or pixels, and when `weight` is not one
 // channel over the planes' window. Deterministic (the same bits for any
 // thread count of `exec`); cost O(pixels * planes).
-bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, const Exec& exec = {});
+GDOF_API bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, const Exec& exec = {});
 
 }  // namespace gdof

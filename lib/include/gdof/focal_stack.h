@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -70,9 +71,9 @@ struct FocalStack {
 // (focus, aperture) entries (naming both), near > far, entries without a
 // "file" (only the JSON is checked here: file existence is the reader's job,
 // io::check_stack_files).
-Result<FocalStack> parse_stack_manifest(const std::string& json_text, const std::string& base_dir);
+GDOF_API Result<FocalStack> parse_stack_manifest(const std::string& json_text, const std::string& base_dir);
 // Serialises a stack (near/far always written; "inf" for an infinite far).
-std::string format_stack_manifest(const FocalStack& stack);
+GDOF_API std::string format_stack_manifest(const FocalStack& stack);
 
 // Stack producers (light-field extraction, ray-traced stacks) call this after
 // each reference is done (index, image) so a front end can write it and free

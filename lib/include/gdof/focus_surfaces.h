@@ -41,6 +41,7 @@
 #include "gdof/blur_map.h"
 #include "gdof/camera.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -57,7 +58,7 @@ struct DesiredFocus {
 };
 
 // A uniform bicubic B-spline surface over the unit square (see the top of this file).
-class BSplineSurface {
+class GDOF_API BSplineSurface {
 public:
     BSplineSurface() = default;  // 0 everywhere
     static BSplineSurface constant(double value);
@@ -97,19 +98,19 @@ struct FocusSurfaces {
 //    "near": {"grid": [[2, 2, 3], [2, 2.5, 3]]},     // rows top to bottom, depth units
 //    "far": {"grid": [[4, 4, "inf"], [4, 5, "inf"]]}} // or a single number / "inf"
 // Errors name the key path ("far.grid[1][2]: ...").
-Result<FocusSurfaces> parse_focus_surfaces(const std::string& json_text);
+GDOF_API Result<FocusSurfaces> parse_focus_surfaces(const std::string& json_text);
 
 // Evaluates the surfaces at every pixel centre of a width x height grid.
-Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, int height, const Exec& exec = {});
+GDOF_API Result<DesiredFocus> desired_from_surfaces(const FocusSurfaces& s, int width, int height, const Exec& exec = {});
 
 // From per-pixel maps: channel near_channel of near_img and far_channel of
 // far_img (float channels), over their data windows, which must have the same
 // size (an error naming both sizes otherwise). The result's window is
 // [0, width) x [0, height). NaN stays NaN (such pixels select nothing).
-Result<DesiredFocus> desired_from_maps(const Image& near_img, int near_channel, const Image& far_img, int far_channel);
+GDOF_API Result<DesiredFocus> desired_from_maps(const Image& near_img, int near_channel, const Image& far_img, int far_channel);
 // The channel of a near/far map: `name` ("near" / "far") if present, else
 // "Z", else "Y", else the first float channel; -1 if none.
-int find_focus_map_channel(const Image& img, const std::string& name);
+GDOF_API int find_focus_map_channel(const Image& img, const std::string& name);
 
 struct BlurFocusOptions {
     double coc_px = 1.0;     // acceptable CoC radius (output px): B <= coc_px is "in focus"
@@ -129,10 +130,10 @@ struct BlurFocusOptions {
 // the one containing the pixel's depth is chosen, else the nearest in inverse
 // depth (so sky at +inf picks the farthest), else (no depth) the primary one;
 // if B never gets down to coc_px the interval is [d, d] at the sharpest depth d.
-Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camera& camera, const Image& depth_image,
-                                             const BlurFocusOptions& settings, const Exec& exec = {});
+GDOF_API Result<DesiredFocus> desired_from_blur_field(const BlurField& field, const Camera& camera, const Image& depth_image,
+                                                      const BlurFocusOptions& settings, const Exec& exec = {});
 
 // The interval of `iv` chosen for a pixel at depth z (NaN: unknown), as above.
-DepthInterval choose_interval(const InFocusIntervals& iv, double z);
+GDOF_API DepthInterval choose_interval(const InFocusIntervals& iv, double z);
 
 }  // namespace gdof

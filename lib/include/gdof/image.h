@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/metadata.h"
 #include "gdof/status.h"
 
@@ -31,16 +32,16 @@ struct Roi {
     // Grown by r pixels on every side (r may be negative).
     constexpr Roi grown(int r) const { return {x0 - r, y0 - r, x1 + r, y1 + r}; }
 };
-Roi intersect(const Roi& a, const Roi& b);  // empty Roi if disjoint
-Roi unite(const Roi& a, const Roi& b);      // bounding box; an empty side is ignored
-std::string to_string(const Roi& r);        // "[x0,x1)x[y0,y1)"
+GDOF_API Roi intersect(const Roi& a, const Roi& b);  // empty Roi if disjoint
+GDOF_API Roi unite(const Roi& a, const Roi& b);      // bounding box; an empty side is ignored
+GDOF_API std::string to_string(const Roi& r);        // "[x0,x1)x[y0,y1)"
 
 // A window cut into square tiles of `size` pixels (size >= 1), numbered
 // row-major from the window's top-left; the last column and row are clipped
 // to the window. The renderer and the compositor share it, so a tile index
 // means the same pixels in both.
-struct TileGrid {
-    Roi window;
+struct GDOF_API TileGrid {
+             Roi window;
     int size = 1;
     int nx = 0, ny = 0;  // tiles per row, per column (0 for an empty window)
 
@@ -52,7 +53,7 @@ struct TileGrid {
 // Storage type of a channel in its file. Half and Float are processed as
 // float; UInt (ids) is kept exactly as uint32 and never blurred.
 enum class PixelType : std::uint8_t { Half, Float, UInt };
-const char* to_string(PixelType t);
+GDOF_API const char* to_string(PixelType t);
 
 struct ChannelSpec {
     std::string name;  // full name, "layer.channel" for multilayer EXR
@@ -125,7 +126,7 @@ struct BasicImageView {
 using ImageView = BasicImageView<float>;
 using ConstImageView = BasicImageView<const float>;
 
-class Image {
+class GDOF_API Image {
 public:
     Image() = default;
     // Zero-filled image. The display window defaults to the data window.
@@ -207,6 +208,6 @@ private:
 struct RgbaIndices {
     int r = -1, g = -1, b = -1, a = -1;
 };
-RgbaIndices find_rgba(const Image& img, std::string_view layer = "");
+GDOF_API RgbaIndices find_rgba(const Image& img, std::string_view layer = "");
 
 }  // namespace gdof

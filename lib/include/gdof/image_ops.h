@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -15,13 +16,13 @@ namespace gdof {
 //   "new=old"       copy channel `old` under the name `new`,
 //   "new=0.5"       a float channel filled with a constant.
 // Windows and metadata are kept. Unknown channels are errors naming them.
-Result<Image> select_channels(const Image& src, const std::vector<std::string>& spec);
+GDOF_API Result<Image> select_channels(const Image& src, const std::vector<std::string>& spec);
 
 // Multiplies float channels by factors: one factor for all, or one per channel.
 // UInt channels are left alone.
-Status multiply_channels(Image& img, const std::vector<double>& factors);
+GDOF_API Status multiply_channels(Image& img, const std::vector<double>& factors);
 
 // Splits "a,b,c" at commas (no empty entries allowed: error naming the list).
-Result<std::vector<std::string>> split_list(const std::string& list);
+GDOF_API Result<std::vector<std::string>> split_list(const std::string& list);
 
 }  // namespace gdof

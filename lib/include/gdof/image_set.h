@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdof/deep.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -14,7 +15,7 @@ namespace gdof {
 
 using Part = std::variant<Image, DeepImage>;
 
-struct ImageSet {
+struct GDOF_API ImageSet {
     std::vector<Part> parts;
 
     bool empty() const { return parts.empty(); }
@@ -33,21 +34,21 @@ struct ImageSet {
 // Choosing parts, as files come from renderers and stereo rigs.
 // The distinct view names of the parts ("left", "right"), in order of first
 // appearance; empty when no part names a view.
-std::vector<std::string> part_views(const ImageSet& set);
+GDOF_API std::vector<std::string> part_views(const ImageSet& set);
 // The parts of one view, and the parts that name no view (which belong to
 // every view, as in a multi-view EXR). Errors: a view no part has, naming the
 // views there are.
-Result<ImageSet> select_view(const ImageSet& set, const std::string& view);
+GDOF_API Result<ImageSet> select_view(const ImageSet& set, const std::string& view);
 // The parts listed by name or index ("beauty,depth", "0,2"), in the list's
 // order. Errors: an unknown name or an index out of range, naming the parts
 // there are.
-Result<ImageSet> select_parts(const ImageSet& set, const std::string& list);
+GDOF_API Result<ImageSet> select_parts(const ImageSet& set, const std::string& list);
 // Puts channel `channel` of `depth` into `plate` as channel `name` (replacing
 // one of that name): a depth map given as its own file or part. Both must be
 // the same size; pixels are matched from their data windows' corners (a
 // PNG depth map has no window of its own). Errors name `plate_name` and
 // `depth_name` with both sizes.
-Status attach_depth(Image& plate, const Image& depth, int channel, const std::string& name,
-                    const std::string& plate_name, const std::string& depth_name);
+GDOF_API Status attach_depth(Image& plate, const Image& depth, int channel, const std::string& name,
+                             const std::string& plate_name, const std::string& depth_name);
 
 }  // namespace gdof

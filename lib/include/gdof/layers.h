@@ -13,6 +13,7 @@
 #include "gdof/camera.h"
 #include "gdof/deep.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/image_set.h"
 #include "gdof/plate.h"
@@ -46,7 +47,7 @@ struct Layer {
 // builder below returns (layers_from_depth_map, layers_from_deep with
 // extend_layers_behind); the source keeps references to its input, which
 // must outlive it.
-class LayerSource {
+class GDOF_API LayerSource {
 public:
     virtual ~LayerSource() = default;
     virtual int size() const = 0;
@@ -61,8 +62,8 @@ public:
 // A source over layers already made (front to back): borrowed (they must
 // outlive the source) or taken over. frame(): the union of their data
 // windows; display_window(): the union of their display windows.
-std::unique_ptr<LayerSource> source_of(const std::vector<Layer>& front_to_back);
-std::unique_ptr<LayerSource> source_of(std::vector<Layer>&& front_to_back);
+GDOF_API std::unique_ptr<LayerSource> source_of(const std::vector<Layer>& front_to_back);
+GDOF_API std::unique_ptr<LayerSource> source_of(std::vector<Layer>&& front_to_back);
 
 struct LayerSplit {
     enum class Mode {
@@ -107,7 +108,7 @@ struct LayerSplit {
 // "blur" = cut by blur, "blur=STEP" = cut by blur with that step in px,
 // "gaps" = no blur cuts; e.g. "auto:8:blur=3"), "N" (count, 1..1024), "id" /
 // "id:CHANNEL"; errors name the value.
-Result<LayerSplit> parse_layer_split(const std::string& text);
+GDOF_API Result<LayerSplit> parse_layer_split(const std::string& text);
 
 // Deep image -> layers: samples grouped by depth (or id); within a layer a
 // pixel's samples are sorted by Z (stored order may be anything; ties keep
@@ -123,8 +124,8 @@ Result<LayerSplit> parse_layer_split(const std::string& text);
 // samples); for ById only when ids do not interleave in depth.
 // `sample_radius` (optional, like SliceOptions::radius: empty, or one blur
 // radius per deep sample in sample order) drives Auto's blur cuts.
-Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
-                                            std::span<const float> sample_radius = {}, const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
+                                                     std::span<const float> sample_radius = {}, const Exec& exec = {});
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -140,7 +141,7 @@ Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSp
 // Deep parts become layers through layers_from_deep (Auto split). Names:
 // part name, "part.prefix", or the prefix for unnamed parts. No layer at
 // all is an error that says what was looked for.
-Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const PositionSource& source, const Exec& exec = {});
 
 // Flat RGBA + depth (live action) -> depth slices (split Auto or Count; ById
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
@@ -196,8 +197,8 @@ struct SliceOptions {
     bool continue_surfaces = false;
     double continuity = 1.05;  // neighbouring depth ratio within which a surface continues
 };
-Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
-                                                 const Exec& exec = {});
+GDOF_API Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
+                                                          const Exec& exec = {});
 
 // Extends layers behind the nearer layers that hide them: every layer but
 // the nearest gets, at its hidden pixels within `extend_px` of its own
@@ -230,8 +231,8 @@ struct ExtendOptions {
     // needs no distance transform of its own. Not owned.
     std::span<const float> owner_distance;
 };
-Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
-                            const Exec& exec = {});
+GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
+                                     const Exec& exec = {});
 
 // The sources behind the builders (LayerSource): the preparation that
 // concerns every layer (depth slices, which sample or pixel goes where,
@@ -240,9 +241,9 @@ Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame,
 // of depth_map_layer_source(img, o); layers_from_deep followed by
 // extend_layers_behind(layers, deep.data_window(), *extend) every layer of
 // deep_layer_source(deep, split, radius, extend) (extend null: none).
-Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& rgba_depth, const SliceOptions& options,
+GDOF_API Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& rgba_depth, const SliceOptions& options,
                                                             const Exec& exec = {});
-Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
+GDOF_API Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
                                                        const ExtendOptions* extend, const Exec& exec = {});
 
@@ -252,13 +253,13 @@ Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, co
 // Samples are sorted by Z first; same sample rules and errors as
 // layers_from_deep. RGBA equals OIIO's ImageBufAlgo::flatten on sorted
 // files (OIIO's Z is an alpha-composited depth instead, 1e30 where empty).
-Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec = {});
+GDOF_API Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec = {});
 
 // Composites layers (front = index 0) back to front with `over` into an
 // image of float R, G, B, A over `window` (absolute pixels; display window:
 // the first layer's, else `window`); layers may have any data windows,
 // inside or outside it. Null entries are skipped; a layer without A is
 // opaque. Parallel over rows; the only error is cancellation.
-Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec = {});
+GDOF_API Result<Image> composite_layers(const std::vector<const Image*>& front_to_back, const Roi& window, const Exec& exec = {});
 
 }  // namespace gdof

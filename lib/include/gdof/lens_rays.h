@@ -27,6 +27,7 @@
 #include "gdof/aperture.h"
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/math.h"
 #include "gdof/status.h"
@@ -43,7 +44,7 @@ struct Vec2 {
 // ---------------------------------------------------------------------------
 
 // Per-pixel seed: a hash of the integer pixel (x, y) and a global seed.
-std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed);
+GDOF_API std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed);
 
 // Sample `index` of a pixel's sequence in [0, 1)^2: an Owen-scrambled
 // (hash-based nested uniform scramble) 2D Sobol (0,2)-sequence with shuffled
@@ -52,9 +53,9 @@ std::uint64_t pixel_seed(int x, int y, std::uint64_t global_seed);
 // exactly one sample; for n = 4^m the sqrt(n) x sqrt(n) grid is hit once per
 // cell. Prefixes of any length are well spread (progressive, for adaptive
 // sample counts).
-Vec2 unit_square_sample(std::uint64_t pixel_seed, std::uint32_t index);
+GDOF_API Vec2 unit_square_sample(std::uint64_t pixel_seed, std::uint32_t index);
 // Samples [first, first + out.size()) of the pixel's sequence.
-void unit_square_samples(std::uint64_t pixel_seed, std::uint32_t first, std::span<Vec2> out);
+GDOF_API void unit_square_samples(std::uint64_t pixel_seed, std::uint32_t first, std::span<Vec2> out);
 
 // One sample of a pixel, as a camera turns it into a ray (pbrt's CameraSample).
 struct CameraSample {
@@ -65,14 +66,14 @@ struct CameraSample {
 // A pixel's camera samples: sample i depends only on (x, y, global_seed, i).
 // The aperture sample is unit_square_sample(pixel_seed(x, y, global_seed), i);
 // the jitter (when asked for) is a second, independent sequence of the pixel.
-class PixelSampler {
+class GDOF_API PixelSampler {
 public:
     PixelSampler(int x, int y, std::uint64_t global_seed, bool jitter);
     CameraSample sample(std::uint32_t index) const;
 
     // The scramble seeds of one pixel's sequence, derived once per pixel
     // rather than once per sample (unit_square_sample derives them each call).
-    struct Sequence {
+    struct GDOF_API Sequence {
         std::uint32_t order = 0, x = 0, y = 0;
         explicit Sequence(std::uint64_t pixel_seed);
         Vec2 at(std::uint32_t index) const;
@@ -98,7 +99,7 @@ private:
 //            mask's CDF (rows then columns, continuous inside the pixel), so
 //            stratification of the input carries over.
 // Copyable; the mask's CDF is copied at construction (the Image may go away).
-class ApertureShape {
+class GDOF_API ApertureShape {
 public:
     enum class Kind { Disc, Polygon, Mask };
 
@@ -133,10 +134,10 @@ private:
 // themselves, rounded or squeezed polygons and image kernels as a mask of
 // the shape (its luminance for a colour kernel). The cat's eye (a shape that
 // changes across the frame) is an error.
-Result<ApertureShape> aperture_shape(const Aperture& aperture);
+GDOF_API Result<ApertureShape> aperture_shape(const Aperture& aperture);
 
 // Concentric (Shirley-Chiu) map of [0,1)^2 onto the unit disc.
-Vec2 concentric_disc(Vec2 unit);
+GDOF_API Vec2 concentric_disc(Vec2 unit);
 
 // ---------------------------------------------------------------------------
 // Polyline rays
@@ -191,7 +192,7 @@ struct PixelCone {
     bool pinhole = true;             // rho == 0 everywhere: the pinhole ray
 };
 
-class NonlinearCamera {
+class GDOF_API NonlinearCamera {
 public:
     // Validates the options. The camera and field are copied (both are cheap:
     // a BlurField shares its tree).
@@ -267,8 +268,8 @@ private:
 // lens_radius * (u * right + v * up) ((u, v) in the unit disc), through the
 // point where the central ray meets the plane depth = focus_depth. The
 // direction is unit; depth_per_t as in CameraRay.
-CameraRay thin_lens_ray(const Camera& camera, double px, double py, double lens_radius, double focus_depth,
-                        Vec2 aperture_offset);
+GDOF_API CameraRay thin_lens_ray(const Camera& camera, double px, double py, double lens_radius, double focus_depth,
+                                 Vec2 aperture_offset);
 
 // The lens radius (scene units) of the straight thin lens that method 1
 // driven by BlurField::from_thin_lens(lens) equals exactly:
@@ -276,9 +277,9 @@ CameraRay thin_lens_ray(const Camera& camera, double px, double py, double lens_
 // gdof cameras keep the focal-length field of view (fx = f W / sensor width)
 // while ThinLens::coc_radius_px images at the sensor distance v = s f / (s - f);
 // the factor v / f = s / (s - f) reconciles them (docs/raytrace.md).
-double thin_lens_equivalent_radius(const ThinLens& lens);
+GDOF_API double thin_lens_equivalent_radius(const ThinLens& lens);
 // f / (2 N) in scene units (the textbook / pbrt aperture radius).
-double thin_lens_aperture_radius(const ThinLens& lens);
+GDOF_API double thin_lens_aperture_radius(const ThinLens& lens);
 
 // ---------------------------------------------------------------------------
 // The camera a renderer traces
@@ -287,7 +288,7 @@ double thin_lens_aperture_radius(const ThinLens& lens);
 // One of the three cameras of method 1 behind one interface: per pixel
 // prepare_pixel, then generate_ray per camera sample. Copyable, immutable,
 // thread-safe; every ray depends only on (pixel, sample).
-class RenderCamera {
+class GDOF_API RenderCamera {
 public:
     enum class Kind {
         Pinhole,           // Camera::central_ray of the sample's position

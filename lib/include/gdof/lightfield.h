@@ -45,13 +45,14 @@
 #include <vector>
 
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
 namespace gdof {
 
-struct LightFieldGeometry {
+struct GDOF_API LightFieldGeometry {
     double disparity_at_infinity = 0.0;  // px per view step of points at infinite depth
     double focal_baseline = 1.0;         // focal length (px) x baseline (scene units per step); sign per the convention
     bool depth_known = false;            // false: focal_baseline is the default 1 (pseudo-depths)
@@ -70,14 +71,14 @@ struct DepthRange {
     double near = std::numeric_limits<double>::quiet_NaN();
     double far = std::numeric_limits<double>::quiet_NaN();
 };
-DepthRange depth_interval(const LightFieldGeometry& g, double d_lo, double d_hi);
+GDOF_API DepthRange depth_interval(const LightFieldGeometry& g, double d_lo, double d_hi);
 
 // Depth of field of a refocused image: the points whose circle of confusion
 // r * |d - d_f| is at most coc_px pixels. r = 0: every depth ([0, inf]).
-DepthRange refocus_depth_of_field(const LightFieldGeometry& g, double focus_disparity, double aperture_radius,
-                                     double coc_px);
+GDOF_API DepthRange refocus_depth_of_field(const LightFieldGeometry& g, double focus_disparity, double aperture_radius,
+                                              double coc_px);
 
-struct LightField {
+struct GDOF_API LightField {
     int rows = 0, cols = 0;
     int center_row = 0, center_col = 0;  // grid indices of the central view
     std::vector<Image> views;            // rows * cols, row-major, linear float, same channels and windows
@@ -95,8 +96,8 @@ struct LightField {
 };
 
 enum class LightFieldFilter { Bicubic, Bilinear };
-const char* to_string(LightFieldFilter f);
-Result<LightFieldFilter> parse_lightfield_filter(const std::string& name);
+GDOF_API const char* to_string(LightFieldFilter f);
+GDOF_API Result<LightFieldFilter> parse_lightfield_filter(const std::string& name);
 
 struct RefocusOptions {
     double focus_disparity = 0.0;  // d_f, px per view step
@@ -106,7 +107,7 @@ struct RefocusOptions {
 
 // Shift-and-add refocus; the result has the central view's channels (float),
 // windows and metadata.
-Result<Image> refocus(const LightField& lf, const RefocusOptions& settings, const Exec& exec = {});
+GDOF_API Result<Image> refocus(const LightField& lf, const RefocusOptions& settings, const Exec& exec = {});
 
 // One reference of a stack: focus as a disparity, or a depth (converted with
 // the geometry; +inf = disparity_at_infinity), and an aperture radius.
@@ -132,9 +133,9 @@ struct ExtractedStack {
 
 // Resolves each request's focus disparity and depth of field; errors name the
 // reference ("references[2].aperture_radius: ..."), duplicates are errors.
-Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& spec);
+GDOF_API Result<FocalStack> plan_stack(const LightField& lf, const ExtractStackOptions& spec);
 // Plans and refocuses every reference. Progress is reported over the whole stack.
-Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const StackSink& sink = {},
-                                     const Exec& exec = {});
+GDOF_API Result<ExtractedStack> extract_stack(const LightField& lf, const ExtractStackOptions& spec, const StackSink& sink = {},
+                                              const Exec& exec = {});
 
 }  // namespace gdof

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <optional>
 
+#include "gdof/export.h"
+
 namespace gdof {
 
 struct Vec3 {
@@ -64,6 +66,6 @@ struct Mat44 {
 };
 
 // General 4x4 inverse (Gauss-Jordan with partial pivoting); nullopt if singular.
-std::optional<Mat44> inverse(const Mat44& a);
+GDOF_API std::optional<Mat44> inverse(const Mat44& a);
 
 }  // namespace gdof

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/math.h"
 
 namespace gdof {
@@ -20,7 +21,7 @@ struct Attribute {
     std::string text;             // string payload (type "string")
 };
 
-class Metadata {
+class GDOF_API Metadata {
 public:
     const std::vector<Attribute>& attributes() const { return attrs_; }
     const Attribute* find(std::string_view name) const;

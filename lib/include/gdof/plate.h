@@ -35,6 +35,7 @@
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -53,7 +54,7 @@ struct DepthCleanupOptions {
     double mixed_step = 1.10;
 };
 
-struct DepthCleanupStats {
+struct GDOF_API DepthCleanupStats {
     std::size_t pixels = 0;
     std::size_t holes = 0;     // invalid after decoding (speckles not counted)
     std::size_t speckles = 0;  // pixels of removed islands (then filled as holes)
@@ -75,7 +76,7 @@ struct MixedPixel {
 };
 
 // The prepared depth of a plate over its data window (row-major).
-struct PlateDepth {
+struct GDOF_API PlateDepth {
     Roi window;
     // Metric depth along the viewing axis; +inf: sky. Every value is finite
     // or +inf (holes are filled). A mixed pixel's is its background's.
@@ -92,21 +93,21 @@ struct PlateDepth {
 // it; `plate`'s R, G, B guide the hole fill (none: the fill is unguided).
 // Errors: a bad decode (naming the setting), a channel out of range, a depth
 // channel with no valid value at all (nothing to fill from).
-Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
-                                       const Camera& camera, const DepthCleanupOptions& options = {},
-                                       const Exec& exec = {});
+GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                                const Camera& camera, const DepthCleanupOptions& options = {},
+                                                const Exec& exec = {});
 
 // The median of the finite depths in a (2 r + 1)^2 window around pixel (x, y)
 // (absolute coordinates), sky excluded; NaN when the window has none. A
 // focus distance picked from the picture: robust to noise, holes and edges.
-double depth_at(const PlateDepth& depth, int x, int y, int r = 2);
+GDOF_API double depth_at(const PlateDepth& depth, int x, int y, int r = 2);
 
 // The focus distance a pixel asks for, straight from the plate (no whole-frame
 // preparation): channel `depth_channel` decoded in the (2 r + 1)^2 window
 // around (x, y) and depth_at's median of it; +inf for sky. Errors: a pixel
 // outside the data window, a window without one valid depth (naming both).
-Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
-                                 const Camera& camera, int x, int y, int r = 2);
+GDOF_API Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                          const Camera& camera, int x, int y, int r = 2);
 
 // What a pixel of a plate is: its depth (depth_at), world position and blur.
 struct PixelProbe {
@@ -116,7 +117,7 @@ struct PixelProbe {
     double blur_px = 0;     // the field's blur radius there
     bool mixed = false;     // a split silhouette pixel
 };
-Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
-                               int r = 2);
+GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
+                                        int r = 2);
 
 }  // namespace gdof

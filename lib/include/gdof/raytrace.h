@@ -21,6 +21,7 @@
 #include "gdof/blur_field.h"
 #include "gdof/deep.h"
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/scene.h"
 #include "gdof/status.h"
@@ -49,7 +50,7 @@ struct SurfaceHit {
 // The acceleration structure over a scene's meshes (Embree BVH). Immutable
 // after build; intersect/occluded are const and thread-safe. The scene must
 // outlive the tracer.
-class RayTracer {
+class GDOF_API RayTracer {
 public:
     static Result<std::shared_ptr<const RayTracer>> build(const Scene& scene);
     ~RayTracer();
@@ -90,8 +91,8 @@ constexpr RenderAov& operator|=(RenderAov& a, RenderAov b) { return a = a | b; }
 constexpr bool has(RenderAov set, RenderAov flags) { return flags != RenderAov::None && (set & flags) == flags; }
 // "albedo,Z,P,N,id" (any subset, any order), "all" or "none"; errors name
 // the unknown entry.
-Result<RenderAov> parse_render_aovs(const std::string& list);
-std::string format_render_aovs(RenderAov aovs);
+GDOF_API Result<RenderAov> parse_render_aovs(const std::string& list);
+GDOF_API std::string format_render_aovs(RenderAov aovs);
 
 struct RenderOptions {
     int spp = 64;                   // cap on aperture samples per pixel
@@ -128,7 +129,7 @@ struct RenderOptions {
     Aperture aperture;
 };
 
-struct RenderStats {
+struct GDOF_API RenderStats {
     std::uint64_t primary_rays = 0;   // camera rays (aperture samples)
     std::uint64_t segments = 0;       // camera-ray segments traced (rtcIntersect1 calls)
     std::uint64_t shadow_rays = 0;    // rtcOccluded1 calls
@@ -156,11 +157,11 @@ struct RenderStats {
 // P = N = NaN where none did). The camera attributes (Camera::to_metadata)
 // are in its metadata. A pixel whose blur field cannot be sampled (e.g. a
 // NaN from an image_map) is an error naming the pixel.
-Result<Image> render(const Scene& scene, const RenderOptions& settings, RenderStats* stats = nullptr,
-                     const Exec& exec = {});
+GDOF_API Result<Image> render(const Scene& scene, const RenderOptions& settings, RenderStats* stats = nullptr,
+                              const Exec& exec = {});
 // The same with a tracer already built for `scene`.
-Result<Image> render(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
-                     const Exec& exec = {});
+GDOF_API Result<Image> render(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
+                              const Exec& exec = {});
 
 // The same samples as a deep image (for method 3): each pixel's samples that
 // hit are grouped into surfaces (same object id, depths within 5% of each
@@ -171,13 +172,13 @@ Result<Image> render(const RayTracer& tracer, const RenderOptions& settings, Ren
 // render's R, G, B, A. A non-black environment adds a sample at Z = +inf.
 // Channels: R, G, B, A, Z, ZBack, then the AOVs (albedo, P, N: the
 // surface's mean; id: the surface's object).
-Result<DeepImage> render_deep(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
-                              const Exec& exec = {});
+GDOF_API Result<DeepImage> render_deep(const RayTracer& tracer, const RenderOptions& settings, RenderStats* stats = nullptr,
+                                       const Exec& exec = {});
 
 // Raw ray throughput of the tracer on this scene, for comparison in --stats:
 // the pinhole central ray of every pixel traced `repeats` times with
 // rtcIntersect1 only (no camera model, no shading), tiles in parallel.
 // Returns million rays per second (0 if cancelled).
-double raw_primary_mrays(const RayTracer& tracer, int repeats = 4, const Exec& exec = {});
+GDOF_API double raw_primary_mrays(const RayTracer& tracer, int repeats = 4, const Exec& exec = {});
 
 }  // namespace gdof

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "gdof/camera.h"
+#include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/raytrace.h"
 #include "gdof/status.h"
@@ -35,18 +36,18 @@ struct RenderStackOptions {
 
 // Errors name the key path ("stack.json: references[2].f_number: ..."); duplicate
 // (focus, f-number) pairs are errors naming both.
-Result<RenderStackOptions> parse_render_stack_options(const std::string& json_text, const std::string& where = "stack.json");
+GDOF_API Result<RenderStackOptions> parse_render_stack_options(const std::string& json_text, const std::string& where = "stack.json");
 
 // The manifest-to-be: each reference's lens and depth of field (near/far for
 // coc_px) from the camera's focal length, sensor width and image width.
 // File names are left empty. Errors: the camera has no focal length or
 // sensor width, or a focus distance is not beyond the focal length.
-Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackOptions& spec);
+GDOF_API Result<FocalStack> plan_render_stack(const Camera& camera, const RenderStackOptions& spec);
 
 // Renders every reference of the plan with `settings` (its lens replaced by
 // each reference's; settings.blur_field and pinhole must be unset) and hands
 // each image to the sink. stats, when given, sums the renders.
-Status render_stack(const RayTracer& tracer, const FocalStack& plan, const RenderOptions& settings,
-                    const StackSink& sink, RenderStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Status render_stack(const RayTracer& tracer, const FocalStack& plan, const RenderOptions& settings,
+                             const StackSink& sink, RenderStats* stats = nullptr, const Exec& exec = {});
 
 }  // namespace gdof

@@ -13,6 +13,7 @@
 
 #include "gdof/aperture.h"
 #include "gdof/camera.h"
+#include "gdof/export.h"
 #include "gdof/math.h"
 #include "gdof/status.h"
 
@@ -52,7 +53,7 @@ struct PointLight {
     Vec3 intensity{1, 1, 1};  // radiant intensity (W/sr per channel): irradiance = I cos / d^2
 };
 
-struct Scene {
+struct GDOF_API Scene {
     std::string path;          // file it was read from ("" for a string)
     CameraDesc camera_desc;    // as given (lens data included when set)
     Aperture aperture;         // camera.aperture (disc when absent); an image kernel's file is not read
@@ -71,16 +72,16 @@ struct Scene {
 // Reads a scene JSON file; relative mesh paths are taken from its folder.
 // Errors name the file, the key path ("meshes[2].file") and, for malformed
 // JSON, the line and column.
-Result<Scene> load_scene(const std::string& path);
+GDOF_API Result<Scene> load_scene(const std::string& path);
 // The same from text; `base_dir` resolves relative paths, `source` names the
 // text in error messages.
-Result<Scene> parse_scene(std::string_view json_text, const std::string& base_dir,
-                          const std::string& source = "scene");
+GDOF_API Result<Scene> parse_scene(std::string_view json_text, const std::string& base_dir,
+                                   const std::string& source = "scene");
 
 // An OBJ file as read (object space): polygons triangulated (quads and
 // n-gons as fans), negative (relative) indices resolved, materials from the
 // MTL files it names (Kd, Ke; a material without Kd gets the default).
-struct ObjModel {
+struct GDOF_API ObjModel {
     struct Shape {
         std::string name;
         std::vector<int> vertex;    // 3 per triangle, into ObjModel::positions / 3
@@ -97,6 +98,6 @@ struct ObjModel {
 
 // Reads an OBJ (+ MTL) file. Errors name the file (and the line when the
 // loader reports one); non-finite vertices and out-of-range indices are errors.
-Result<ObjModel> load_obj(const std::string& path);
+GDOF_API Result<ObjModel> load_obj(const std::string& path);
 
 }  // namespace gdof

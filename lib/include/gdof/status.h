@@ -8,6 +8,8 @@
 #include <utility>
 #include <variant>
 
+#include "gdof/export.h"
+
 namespace gdof {
 
 // What kind of failure, so front ends react without reading message text.
@@ -19,7 +21,7 @@ enum class StatusCode {
     Io,               // reading or writing a file failed
     Cancelled,        // Exec::cancelled returned true
 };
-const char* to_string(StatusCode code);
+GDOF_API const char* to_string(StatusCode code);
 
 class [[nodiscard]] Status {
 public:

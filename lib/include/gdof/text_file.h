@@ -6,15 +6,16 @@
 
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/status.h"
 
 namespace gdof {
 
 // The bytes of the file. Errors: NotFound (no such file), Io (a folder, or
 // unreadable), each naming the path.
-Result<std::string> read_text(const std::string& path);
+GDOF_API Result<std::string> read_text(const std::string& path);
 // The same, the file named as "<what> 'path'" in errors ("scene 'a.json' not
 // found", "table 'b.csv' is a folder"), the code kept.
-Result<std::string> read_text(const std::string& path, const std::string& what);
+GDOF_API Result<std::string> read_text(const std::string& path, const std::string& what);
 
 }  // namespace gdof

@@ -4,10 +4,12 @@
 
 #include <string>
 
+#include "gdof/export.h"
+
 namespace gdof {
 
 // `v` with `significant` significant digits (10 by default: what the
 // parsers' errors show; 6 for measurements, as in "blur radius 12.3457 px").
-std::string format_number(double v, int significant = 10);
+GDOF_API std::string format_number(double v, int significant = 10);
 
 }  // namespace gdof

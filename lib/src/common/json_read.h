@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/format_number.h"
+#include "gdof/export.h"
 #include "gdof/math.h"
 #include "gdof/status.h"
 
@@ -30,50 +31,50 @@ enum class Comments { Rejected, Allowed };  // "//" and "/* */" comments in the 
 enum class Infinity { Rejected, Allowed };  // Allowed: the string "inf" reads as +inf
 
 // An error inside a reader: "<path>: <what>", its code, and the key it is about.
-struct Error {
+struct GDOF_API Error {
     std::string message;
     StatusCode code = StatusCode::InvalidArgument;
     std::string subject;
 };
 
 // Throws Error{"<path>: <what>"}; the subject is the last key of the path.
-[[noreturn]] void fail(const std::string& path, const std::string& what,
-                       StatusCode code = StatusCode::InvalidArgument);
+[[noreturn]] GDOF_API void fail(const std::string& path, const std::string& what,
+                                StatusCode code = StatusCode::InvalidArgument);
 // A library error about the value at `path`: its message, its code kept (and
 // its subject, for an empty path).
-[[noreturn]] void fail(const std::string& path, const Status& status);
+[[noreturn]] GDOF_API void fail(const std::string& path, const Status& status);
 
 // Message pieces: "string \"abc\"", "number", "array" ...; numbers with 10
 // significant digits ("inf", "nan" for the non-finite); "a, b, c".
-std::string type_name(const json& j);
+GDOF_API std::string type_name(const json& j);
 using ::gdof::format_number;  // common/format_number.h
-std::string join(const std::vector<std::string>& items);
+GDOF_API std::string join(const std::vector<std::string>& items);
 
 // Paths: key_path("references[2]", "f_number") = "references[2].f_number",
 // key_path("", "coc_px") = "coc_px"; index_path("depths", 3) = "depths[3]";
 // subject_of("references[2].f_number") = "f_number" (the last key, no index).
-std::string key_path(const std::string& path, const std::string& key);
-std::string index_path(const std::string& path, std::size_t index);
-std::string subject_of(const std::string& path);
+GDOF_API std::string key_path(const std::string& path, const std::string& key);
+GDOF_API std::string index_path(const std::string& path, std::size_t index);
+GDOF_API std::string subject_of(const std::string& path);
 
 // The parsed document, or InvalidArgument "malformed JSON at line L, column C:
 // <reason>" (the position of the offending token; a number that overflows a
 // double is such an error too).
-Result<json> parse(std::string_view text, Comments comments = Comments::Rejected);
+GDOF_API Result<json> parse(std::string_view text, Comments comments = Comments::Rejected);
 
 // "<source>: <message>" (just the message for an empty source), code and subject kept.
-Status to_status(const Error& error, const std::string& source);
-Status with_source(const Status& status, const std::string& source);
+GDOF_API Status to_status(const Error& error, const std::string& source);
+GDOF_API Status with_source(const Status& status, const std::string& source);
 
 // Range checks for numbers already read: "must be > lo, got v" / "must be >= lo, got v".
-void check_above(double v, double lo, const std::string& path);
-void check_at_least(double v, double lo, const std::string& path);
+GDOF_API void check_above(double v, double lo, const std::string& path);
+GDOF_API void check_at_least(double v, double lo, const std::string& path);
 
 class Object;
 
 // One JSON value and where it sits in the document (the path; "" for the
 // document itself, shown as "top level"). Typed reads fail naming the path.
-class Value {
+class GDOF_API Value {
 public:
     Value(const json& j, std::string path) : j_(&j), path_(std::move(path)) {}
 
@@ -106,7 +107,7 @@ private:
 // and listing the allowed ones ("<path>.<key>: unknown key (allowed: ...)");
 // the required keys are then checked in order ("<path>.<key>: missing
 // required key", NotFound). get() requires a key where it is read.
-class Object {
+class GDOF_API Object {
 public:
     explicit Object(const Value& v);  // must be an object; any keys
     Object(const Value& v, const std::vector<std::string>& allowed, const std::vector<std::string>& required = {});

@@ -105,8 +105,8 @@ Result<bool> with_depth_part(const ImageSet& input, const PositionSource& source
 }
 
 InputChoice choose_input(const ImageSet& input) {
-    for (std::size_t i = 0; i < input.size(); ++i)
-        if (input.is_deep(i)) return {InputKind::Deep, int(i)};
+    const std::size_t ref = defocus_reference_part(input);
+    if (ref < input.size() && input.is_deep(ref)) return {InputKind::Deep, int(ref)};
     if (input.size() > 1 || !rgba_groups(input.flat(0)).empty()) return {InputKind::Parts, -1};
     return {InputKind::DepthMap, -1};
 }
@@ -334,6 +334,12 @@ Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* c
 }
 
 }  // namespace
+
+std::size_t defocus_reference_part(const ImageSet& input) {
+    for (std::size_t i = 0; i < input.size(); ++i)
+        if (input.is_deep(i)) return i;
+    return 0;
+}
 
 Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Camera& camera,
                          const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {

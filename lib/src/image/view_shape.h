@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
@@ -14,6 +15,6 @@ inline constexpr int kAnyChannelCount = -1;
 // Ok when `view` has pixels (valid()), `nchannels` channels (any count for
 // kAnyChannelCount) and exactly `window`; else an InvalidArgument error
 // "<what> is <its shape>; expected <the shape asked for>".
-Status check_view_shape(const ConstImageView& view, int nchannels, const Roi& window, const std::string& what);
+GDOF_API Status check_view_shape(const ConstImageView& view, int nchannels, const Roi& window, const std::string& what);
 
 }  // namespace gdof::image_detail

@@ -25,17 +25,18 @@
 #include <OpenEXR/ImfAttribute.h>
 #include <OpenEXR/ImfHeader.h>
 
+#include "gdof/export.h"
 #include "gdof/metadata.h"
 
 namespace gdof::io::detail {
 
-bool is_structural_exr_attribute(const std::string& name);
+GDOF_API bool is_structural_exr_attribute(const std::string& name);
 // Adds every non-structural header attribute to `md`.
-void exr_header_to_metadata(const Imf::Header& header, Metadata& md);
+GDOF_API void exr_header_to_metadata(const Imf::Header& header, Metadata& md);
 // Inserts the metadata attributes into the header (skipping structural ones,
 // OIIO bookkeeping "oiio:*" and types that have no EXR equivalent).
-void metadata_to_exr_header(const Metadata& md, Imf::Header& header);
+GDOF_API void metadata_to_exr_header(const Metadata& md, Imf::Header& header);
 // One attribute; nullptr if it has no EXR form.
-std::unique_ptr<Imf::Attribute> to_exr_attribute(const Attribute& a);
+GDOF_API std::unique_ptr<Imf::Attribute> to_exr_attribute(const Attribute& a);
 
 }  // namespace gdof::io::detail

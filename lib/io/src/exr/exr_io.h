@@ -6,6 +6,7 @@
 #include <variant>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image_set.h"
 #include "gdof/io/io_options.h"
 #include "gdof/status.h"
@@ -17,11 +18,11 @@ namespace gdof::io::detail {
 inline constexpr const char* kEmptyDataWindowAttr = "gdof:emptyDataWindow";
 
 // `display` is the name used in messages (the user's path, not the temp file).
-Result<ImageSet> read_exr(const std::string& path);
+GDOF_API Result<ImageSet> read_exr(const std::string& path);
 // Parts by reference, so single images are written without a copy.
 using PartRef = std::variant<const Image*, const DeepImage*>;
-std::vector<PartRef> part_refs(const ImageSet& images);
-Status write_exr(const std::string& file, const std::string& display, const std::vector<PartRef>& parts,
-                 const WriteOptions& opts);
+GDOF_API std::vector<PartRef> part_refs(const ImageSet& images);
+GDOF_API Status write_exr(const std::string& file, const std::string& display, const std::vector<PartRef>& parts,
+                          const WriteOptions& opts);
 
 }  // namespace gdof::io::detail

@@ -6,24 +6,25 @@
 #include <functional>
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/status.h"
 
 namespace gdof::io::detail {
 
 // "'path'" for messages.
-std::string quoted(const std::string& path);
+GDOF_API std::string quoted(const std::string& path);
 
 // Lower-case extension without the dot ("exr"), "" if none.
-std::string extension_lower(const std::string& path);
+GDOF_API std::string extension_lower(const std::string& path);
 
 // True if the file starts with the OpenEXR magic number.
-bool has_exr_magic(const std::string& path);
+GDOF_API bool has_exr_magic(const std::string& path);
 
 // Temporary name beside the target that keeps the extension:
 // "<dir>/.<name>.gdof-tmp-<pid>-<n>.<ext>".
-std::string temp_path_for(const std::string& target);
+GDOF_API std::string temp_path_for(const std::string& target);
 // Checks the folder, runs `writer` on a temporary file, renames it over the
 // target on success; removes the temporary file on any failure.
-Status atomic_write(const std::string& target, const std::function<Status(const std::string& tmp)>& writer);
+GDOF_API Status atomic_write(const std::string& target, const std::function<Status(const std::string& tmp)>& writer);
 
 }  // namespace gdof::io::detail

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/image_set.h"
 #include "gdof/io/io_options.h"
 #include "gdof/status.h"
@@ -16,11 +17,11 @@ struct OiioPartInfo {
     int alpha_channel = -1;          // index of alpha in the part, -1 if none
     bool unassociated_alpha = false; // colour not yet multiplied by alpha
 };
-Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& info);
-Status write_oiio(const std::string& file, const std::string& display, const Image& image,
-                  const WriteOptions& opts);
+GDOF_API Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& info);
+GDOF_API Status write_oiio(const std::string& file, const std::string& display, const Image& image,
+                           const WriteOptions& opts);
 // Clears OIIO's global (per-thread) error message so errors do not leak
 // from one call into the next.
-void clear_oiio_error();
+GDOF_API void clear_oiio_error();
 
 }  // namespace gdof::io::detail

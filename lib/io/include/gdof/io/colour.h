@@ -30,12 +30,13 @@
 #include <vector>
 
 #include "gdof/deep.h"
+#include "gdof/export.h"
 #include "gdof/image.h"
 #include "gdof/status.h"
 
 namespace gdof::io {
 
-class ColourConfig {
+class GDOF_API ColourConfig {
 public:
     // $OCIO if set (error if it does not load), else the built-in fallback.
     static Result<std::shared_ptr<const ColourConfig>> from_environment();
@@ -69,14 +70,14 @@ struct ColourTriple {
     std::string layer;  // "" for the unnamed layer
     int r = -1, g = -1, b = -1;
 };
-std::vector<ColourTriple> colour_channels(const std::vector<ChannelSpec>& channels);
+GDOF_API std::vector<ColourTriple> colour_channels(const std::vector<ChannelSpec>& channels);
 
 // True for layers holding data rather than colour (P, N, motion, uv ...).
-bool is_data_layer(const std::string& layer);
+GDOF_API bool is_data_layer(const std::string& layer);
 
 // The IEC 61966-2-1 sRGB transfer functions (extended past 1 by the power
 // segment, linear below the knee including negative values).
-float srgb_to_linear(float v);
-float linear_to_srgb(float v);
+GDOF_API float srgb_to_linear(float v);
+GDOF_API float linear_to_srgb(float v);
 
 }  // namespace gdof::io

@@ -29,6 +29,7 @@
 
 #include <string>
 
+#include "gdof/export.h"
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
 #include "gdof/io/io_options.h"
@@ -37,21 +38,21 @@
 namespace gdof::io {
 
 
-Result<ImageSet> read_image(const std::string& path, const ReadOptions& opts = {});
-Status write_image(const std::string& path, const ImageSet& images, const WriteOptions& opts = {});
+GDOF_API Result<ImageSet> read_image(const std::string& path, const ReadOptions& opts = {});
+GDOF_API Status write_image(const std::string& path, const ImageSet& images, const WriteOptions& opts = {});
 
 // Convenience for single flat images: read_flat returns the first part (an
 // error if it is deep); write_flat writes without copying the image.
-Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
-Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
+GDOF_API Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
+GDOF_API Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
 
 // A text file (a stack manifest, JSON) written atomically like the images:
 // a temporary file beside the target, renamed over it on success.
-Status write_text(const std::string& path, const std::string& text);
+GDOF_API Status write_text(const std::string& path, const std::string& text);
 
 // Human-readable description of a file's contents for `gdof --info`:
 // parts, layers and channels with types, windows, deep sample statistics,
 // camera and lens attributes.
-std::string describe(const ImageSet& images, const std::string& path, bool verbose);
+GDOF_API std::string describe(const ImageSet& images, const std::string& path, bool verbose);
 
 }  // namespace gdof::io

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "gdof/exec.h"
+#include "gdof/export.h"
 #include "gdof/io/image_io.h"
 #include "gdof/lightfield.h"
 #include "gdof/status.h"
@@ -42,12 +43,12 @@ struct LightFieldConfig {
     std::optional<Roi> crop;                   // pixels of the views, half-open
 };
 
-Result<LightFieldConfig> parse_lightfield_config(const std::string& json_text, const std::string& where = "lf.json");
-Result<LightFieldConfig> read_lightfield_config(const std::string& path);
+GDOF_API Result<LightFieldConfig> parse_lightfield_config(const std::string& json_text, const std::string& where = "lf.json");
+GDOF_API Result<LightFieldConfig> read_lightfield_config(const std::string& path);
 
 // stack.json -> the references to extract.
-Result<ExtractStackOptions> parse_extract_stack_options(const std::string& json_text, const std::string& where = "stack.json");
-Result<ExtractStackOptions> read_extract_stack_options(const std::string& path);
+GDOF_API Result<ExtractStackOptions> parse_extract_stack_options(const std::string& json_text, const std::string& where = "stack.json");
+GDOF_API Result<ExtractStackOptions> read_extract_stack_options(const std::string& path);
 
 // The files of a light field on disk (no pixels read).
 struct LightFieldFiles {
@@ -55,13 +56,13 @@ struct LightFieldFiles {
     int rows = 0, cols = 0;
     std::vector<std::string> files;  // row-major
 };
-Result<LightFieldFiles> find_lightfield_views(const std::string& source);
+GDOF_API Result<LightFieldFiles> find_lightfield_views(const std::string& source);
 
 // Finds, reads (in parallel) and checks the views; applies the config
 // (geometry, central view, crop). Cancellation and progress through exec.
-Result<LightField> load_lightfield(const std::string& source, const LightFieldConfig& config = {},
-                                   const ReadOptions& read = {}, const Exec& exec = {});
+GDOF_API Result<LightField> load_lightfield(const std::string& source, const LightFieldConfig& config = {},
+                                            const ReadOptions& read = {}, const Exec& exec = {});
 // Geometry from a config for views `width_px` wide (before any crop).
-Result<LightFieldGeometry> lightfield_geometry(const LightFieldConfig& config, int width_px);
+GDOF_API Result<LightFieldGeometry> lightfield_geometry(const LightFieldConfig& config, int width_px);
 
 }  // namespace gdof::io

@@ -7,17 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/status.h"
 
 namespace gdof::io {
 
 // Parses a frame range specification into the ordered list of frames.
-Result<std::vector<int>> parse_frame_range(const std::string& spec);
+GDOF_API Result<std::vector<int>> parse_frame_range(const std::string& spec);
 // True if the path contains a frame pattern (#, @ or a printf %0Nd).
-bool has_frame_pattern(const std::string& path);
+GDOF_API bool has_frame_pattern(const std::string& path);
 // Substitutes a frame number into a pattern.
-Result<std::string> expand_frame_pattern(const std::string& pattern, int frame);
+GDOF_API Result<std::string> expand_frame_pattern(const std::string& pattern, int frame);
 // Finds the frames on disk that match a pattern (sorted ascending).
-Result<std::vector<int>> frames_on_disk(const std::string& pattern);
+GDOF_API Result<std::vector<int>> frames_on_disk(const std::string& pattern);
 
 }  // namespace gdof::io

@@ -23,6 +23,7 @@
 #include <string>
 
 #include "gdof/compositing.h"
+#include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/io/colour.h"
 #include "gdof/status.h"
@@ -37,7 +38,7 @@ struct StackReaderOptions {
     int cache_tile = 64;                   // tile / strip height for untiled files
 };
 
-class StackReader final : public StackPixels {
+class GDOF_API StackReader final : public StackPixels {
 public:
     static Result<std::unique_ptr<StackReader>> create(const FocalStack& stack, const StackReaderOptions& opts = {});
     ~StackReader() override;
@@ -65,6 +66,6 @@ private:
 
 // Every file listed in the stack exists (an error naming the first missing
 // one and its manifest entry). Checks only names, opens nothing.
-Status check_stack_files(const FocalStack& stack);
+GDOF_API Status check_stack_files(const FocalStack& stack);
 
 }  // namespace gdof::io

@@ -21,12 +21,13 @@
 #include <utility>
 #include <vector>
 
+#include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/status.h"
 
 namespace gdof::io {
 
-Result<FocalStack> load_stack(const std::string& manifest_path);
+GDOF_API Result<FocalStack> load_stack(const std::string& manifest_path);
 
 // A lens table (CSV): the "table" of a manifest, or the OFX plugin's
 // lens_table parameter. A header row names the columns, then one row per
@@ -45,7 +46,7 @@ struct LensTableRow {
     // The other cells in column order, by column name; far "inf" is +inf.
     std::vector<std::pair<std::string, double>> values;
 };
-Result<std::vector<LensTableRow>> read_lens_table(const std::string& text, const std::string& source,
-                                                  LensTableKey key = LensTableKey::FrameOrFile);
+GDOF_API Result<std::vector<LensTableRow>> read_lens_table(const std::string& text, const std::string& source,
+                                                           LensTableKey key = LensTableKey::FrameOrFile);
 
 }  // namespace gdof::io
