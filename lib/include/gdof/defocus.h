@@ -83,8 +83,13 @@ GDOF_API Roi defocus_input_region(const Roi& output, double max_radius_px);
 GDOF_API Roi defocus_output_region(const Roi& input_data_window, const Roi& display_window, double max_radius_px);
 
 // Defocuses prepared layers (front = index 0). Output: float R, G, B, A
-// (premultiplied) over settings.roi or the whole result.
+// (premultiplied) over settings.roi or the whole result. From a source, the
+// whole result is made one layer at a time, back to front (each layer made,
+// diffused, composited and dropped: one layer's pixels in memory at once); a
+// sub-region makes every layer first (all their blurs set the region needed).
 GDOF_API Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                                      const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
+GDOF_API Result<Image> defocus_layers(const LayerSource& layers, const BlurField& field, const Camera& camera,
                                       const DefocusOptions& settings, DefocusStats* stats = nullptr, const Exec& exec = {});
 
 // The part of a defocus() input whose camera, display window and metadata

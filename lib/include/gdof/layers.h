@@ -4,6 +4,7 @@
 // and composited back with `over`.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -39,6 +40,30 @@ struct Layer {
     double slice_near = 0.0;
     double slice_far = 0.0;
 };
+
+// Layers made one at a time, front (index 0) to back: what defocus streams
+// back to front, so that only one layer's pixels are in memory at once.
+// make(i) gives the same pixels as element i of the list the corresponding
+// builder below returns (layers_from_depth_map, layers_from_deep with
+// extend_layers_behind); the source keeps references to its input, which
+// must outlive it.
+class GDOF_API LayerSource {
+public:
+    virtual ~LayerSource() = default;
+    virtual int size() const = 0;
+    // The union of the layers' data windows (known before any is made), and
+    // the display window they carry.
+    virtual Roi frame() const = 0;
+    virtual Roi display_window() const = 0;
+    // Layer i, in `storage` or held by the source itself: the pointer is
+    // valid until the next call and while the source lives.
+    virtual Result<const Layer*> make(int index, Layer& storage, const Exec& exec = {}) const = 0;
+};
+// A source over layers already made (front to back): borrowed (they must
+// outlive the source) or taken over. frame(): the union of their data
+// windows; display_window(): the union of their display windows.
+GDOF_API std::unique_ptr<LayerSource> source_of(const std::vector<Layer>& front_to_back);
+GDOF_API std::unique_ptr<LayerSource> source_of(std::vector<Layer>&& front_to_back);
 
 struct LayerSplit {
     enum class Mode {
@@ -201,9 +226,26 @@ struct ExtendOptions {
     // (a highlight) does not grow an opaque patch behind an occluder that
     // the occluder's blurred edge would reveal. Deep inputs.
     bool continue_coverage = false;
+    // Optional, with `owner`: per frame pixel, the distance to the owner's own
+    // coverage (what the owners were chosen by), so that a layer's reach
+    // needs no distance transform of its own. Not owned.
+    std::span<const float> owner_distance;
 };
 GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                                      const Exec& exec = {});
+
+// The sources behind the builders (LayerSource): the preparation that
+// concerns every layer (depth slices, which sample or pixel goes where,
+// owners, where each pixel is hidden) is done here, each layer's pixels
+// and extension in make(). layers_from_depth_map(img, o) makes every layer
+// of depth_map_layer_source(img, o); layers_from_deep followed by
+// extend_layers_behind(layers, deep.data_window(), *extend) every layer of
+// deep_layer_source(deep, split, radius, extend) (extend null: none).
+GDOF_API Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& rgba_depth, const SliceOptions& options,
+                                                            const Exec& exec = {});
+GDOF_API Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
+                                                       std::span<const float> sample_radius,
+                                                       const ExtendOptions* extend, const Exec& exec = {});
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
 // (float) and Z = depth of the nearest sample (NaN where there is none), over

@@ -147,26 +147,48 @@ void shape_rows(const Prepared& P, const Source& s, double r, double fx, double 
     }
 }
 
-void scatter_spans(Level& L, const Prepared& P, const Source& s, ShapeRows& memo) {
-    const double r = std::round(s.r / kRadiusStep) * kRadiusStep;
+// Source s's shape, `shape` (relative to its cell), into L's difference rows.
+void scatter_rows(Level& L, const Source& s, const ShapeRows& shape) {
+    if (!(shape.area > 0.0)) return;
     const double xb = std::floor(s.cx), yb = std::floor(s.cy);
-    if (!(r > 1e-4)) {  // a point: all of it into its own cell
-        const int x = std::clamp(int(xb), 0, L.w - 1), y = std::clamp(int(yb), 0, L.h - 1);
-        add_span(L, y, s.val, double(x), double(x) + 1.0);
-        return;
-    }
-    const double fx = s.cx - xb, fy = s.cy - yb;
-    if (s.cats_eye || !memo.valid || memo.r != r || memo.fx != fx || memo.fy != fy) shape_rows(P, s, r, fx, fy, memo);
-    if (!(memo.area > 0.0)) return;
     float val[kMaxChannels];
     const int yi = int(yb);
-    for (const RowSpan& rs : memo.rows) {
+    for (const RowSpan& rs : shape.rows) {
         const int y = yi + rs.y;
         if (y < 0 || y >= L.h) continue;
-        const double f = rs.height / memo.area;
+        const double f = rs.height / shape.area;
         for (int c = 0; c < L.nc; ++c) val[c] = float(double(s.val[c]) * f);
         add_span(L, y, val, xb + rs.a, xb + rs.b);
     }
+}
+
+// A point (radius ~ 0): all of it into its own cell.
+bool scatter_point(Level& L, const Source& s, double r) {
+    if (r > 1e-4) return false;
+    const int x = std::clamp(int(std::floor(s.cx)), 0, L.w - 1), y = std::clamp(int(std::floor(s.cy)), 0, L.h - 1);
+    add_span(L, y, s.val, double(x), double(x) + 1.0);
+    return true;
+}
+
+void scatter_spans(Level& L, const Prepared& P, const Source& s, ShapeRows& memo) {
+    const double r = std::round(s.r / kRadiusStep) * kRadiusStep;
+    if (scatter_point(L, s, r)) return;
+    const double fx = s.cx - std::floor(s.cx), fy = s.cy - std::floor(s.cy);
+    if (s.cats_eye || !memo.valid || memo.r != r || memo.fx != fx || memo.fy != fy) shape_rows(P, s, r, fx, fy, memo);
+    scatter_rows(L, s, memo);
+}
+
+// Level 0's sources sit at pixel centres (sub-pixel position 0.5, 0.5):
+// their shapes depend only on the quantised radius, so they are made once
+// for every radius up to the level's largest, shared by all bands.
+std::vector<ShapeRows> centred_shapes(const Prepared& P, double max_radius, const Exec& exec) {
+    const int q_max = int(std::ceil(max_radius / kRadiusStep)) + 1;
+    std::vector<ShapeRows> shapes(static_cast<std::size_t>(q_max) + 1);
+    parallel_for(exec, long(shapes.size()), [&](long b, long e) {
+        const Source s{};
+        for (long q = b; q < e; ++q) shape_rows(P, s, double(q) * kRadiusStep, 0.5, 0.5, shapes[std::size_t(q)]);
+    }, 16);
+    return shapes;
 }
 
 void scatter_kernel(Level& L, const Prepared& P, const Source& s, int colour_channels) {
@@ -296,6 +318,10 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
             levels[lvl[i]].max_radius = std::max(levels[lvl[i]].max_radius, R[i]);
         }
 
+    const bool any_cats_eye = P.aperture.cats_eye > 0.0;
+    const std::vector<ShapeRows> centred =
+        P.spans && !any_cats_eye ? centred_shapes(P, levels[0].max_radius, exec) : std::vector<ShapeRows>{};
+
     // Scatter, level by level, in bands of source rows: even bands, then odd.
     // Spans: every level's sources write full-resolution spans into level 0
     // (a block only gathers the sources, so a disc keeps its sharp edge);
@@ -342,8 +368,14 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
                     }
                     s.cats_eye = false;
                     set_cats_eye(P, F, win.x0 + full_x, win.y0 + full_y, s);
-                    if (P.spans) scatter_spans(A, P, s, rows);
-                    else scatter_kernel(A, P, s, colour_channels);
+                    if (P.spans && k == 0 && !centred.empty()) {
+                        const long q = std::lround(s.r / kRadiusStep);
+                        if (!scatter_point(A, s, double(q) * kRadiusStep)) scatter_rows(A, s, centred[std::size_t(q)]);
+                    } else if (P.spans) {
+                        scatter_spans(A, P, s, rows);
+                    } else {
+                        scatter_kernel(A, P, s, colour_channels);
+                    }
                 }
         };
         for (int parity = 0; parity < 2; ++parity) {

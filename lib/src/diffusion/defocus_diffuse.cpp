@@ -66,33 +66,40 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     const Roi overlap = intersect(win, work);
 
     // Radii over the extrapolation region: known pixels copied, the rest
-    // filled by push-pull; then cropped to the work region.
+    // filled by push-pull; then cropped to the work region (the region's
+    // buffers released before the solve needs its own).
     auto t0 = std::chrono::steady_clock::now();
-    const Roi ext = unite(extrapolation, work);
-    const int EW = ext.width();
-    std::vector<float> full(ext.npixels(), 0.0f), weight(ext.npixels(), 0.0f);
-    const Roi known_area = intersect(win, ext);
-    for (int y = known_area.y0; y < known_area.y1; ++y)
-        for (int x = known_area.x0; x < known_area.x1; ++x) {
-            const std::size_t src = img.offset(x, y);
-            const std::size_t dst = std::size_t(y - ext.y0) * std::size_t(EW) + std::size_t(x - ext.x0);
-            const float wgt = known_weight(analysis, layer, src);
-            if (wgt > 0.0f) {
-                weight[dst] = wgt;
-                full[dst] = analysis.radius[src];
-            }
-        }
-    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
-        // No known radius at all: use the layer's largest.
-        std::fill(full.begin(), full.end(), float(analysis.max_radius));
-    }
     std::vector<float> radius(n);
-    const float rmax = float(analysis.max_radius);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
-            radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
+    {
+        const Roi ext = unite(extrapolation, work);
+        const int EW = ext.width();
+        std::vector<float> full(ext.npixels(), 0.0f), weight(ext.npixels(), 0.0f);
+        const Roi known_area = intersect(win, ext);
+        parallel_for(exec, known_area.height(), [&](long r0, long r1) {
+            for (int y = known_area.y0 + int(r0); y < known_area.y0 + int(r1); ++y)
+                for (int x = known_area.x0; x < known_area.x1; ++x) {
+                    const std::size_t src = img.offset(x, y);
+                    const std::size_t dst = std::size_t(y - ext.y0) * std::size_t(EW) + std::size_t(x - ext.x0);
+                    const float wgt = known_weight(analysis, layer, src);
+                    if (wgt > 0.0f) {
+                        weight[dst] = wgt;
+                        full[dst] = analysis.radius[src];
+                    }
+                }
+        }, 16);
+        if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
+            // No known radius at all: use the layer's largest.
+            std::fill(full.begin(), full.end(), float(analysis.max_radius));
         }
+        const float rmax = float(analysis.max_radius);
+        parallel_for(exec, H, [&](long r0, long r1) {
+            for (int y = int(r0); y < int(r1); ++y)
+                for (int x = 0; x < W; ++x) {
+                    const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
+                    radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
+                }
+        }, 16);
+    }
     stats.t_extrapolate += seconds_since(t0);
 
     // Colour and coverage, zero-padded.

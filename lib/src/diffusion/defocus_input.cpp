@@ -168,10 +168,10 @@ OutputReference output_reference(const ImageSet& input, const InputChoice& choic
     return ref;
 }
 
-// A deep part -> layers_from_deep, each layer extended behind the nearer
-// layers that fully hide it.
-Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& field, const Camera& camera,
-                                       const DefocusOptions& settings, const Exec& exec) {
+// A deep part -> its layers (layers_from_deep), each extended behind the
+// nearer layers that fully hide it.
+Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurField& field, const Camera& camera,
+                                                 const DefocusOptions& settings, const Exec& exec) {
     if (d.channel_index("A") < 0 || d.channel_index("R") < 0)
         return Status::error("defocus: the deep part has no R, G, B, A channels (it has " +
                              std::to_string(d.nchannels()) + " channels)");
@@ -179,8 +179,6 @@ Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& fiel
     // Every sample's blur: it places Auto's blur cuts and bounds the extension.
     std::vector<float> r(d.total_samples());
     if (Status st = evaluate_blur_deep(field, camera, d, -1, r, exec); !st) return st.prefix("defocus: blur field");
-    auto layers = layers_from_deep(d, settings.split, r, exec);  // blur_cuts Off ignores the radii
-    if (!layers) return layers.status().prefix("defocus");
     // Deep renders keep only visible samples: extend each layer behind the
     // nearer layers that fully hide it, as far as the largest blur can reveal
     // (not into genuinely empty, transparent areas).
@@ -188,7 +186,8 @@ Result<std::vector<Layer>> deep_layers(const DeepImage& d, const BlurField& fiel
     ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
     ext.occluder_alpha = 0.999f;
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
-    if (Status st = extend_layers_behind(*layers, d.data_window(), ext, exec); !st) return st.prefix("defocus");
+    auto layers = deep_layer_source(d, settings.split, r, &ext, exec);  // blur_cuts Off ignores the radii
+    if (!layers) return layers.status().prefix("defocus");
     return layers;
 }
 
@@ -222,9 +221,9 @@ Status plate_radii(const BlurField& field, const Camera& camera, const PlateDept
 
 // A plate: its depth decoded and cleaned (holes, speckles, mixed silhouette
 // pixels, plate.h), every sample's blur at its own depth, then the slices.
-Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& field, const Camera& camera,
-                                            const DefocusOptions& settings, const Exec& exec,
-                                            DepthCleanupStats& depth_stats) {
+Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const BlurField& field, const Camera& camera,
+                                                      const DefocusOptions& settings, const Exec& exec,
+                                                      DepthCleanupStats& depth_stats) {
     const RgbaIndices rgba = find_rgba(flat);
     if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
         return Status::error("defocus: the input has no R, G, B channels (channels: " + channel_list(flat) + ")");
@@ -253,21 +252,22 @@ Result<std::vector<Layer>> depth_map_layers(const Image& flat, const BlurField& 
         so.radius = r;
         so.fg_radius = rf;
     }
-    auto layers = layers_from_depth_map(flat, so, exec);
+    auto layers = depth_map_layer_source(flat, so, exec);
     if (!layers) return layers.status().prefix("defocus");
     return layers;
 }
 
 // The layers of an input by its kind; errors start with "defocus: ".
-Result<std::vector<Layer>> input_layers(const ImageSet& input, const InputChoice& choice, const BlurField& field,
-                                        const Camera& camera, const DefocusOptions& settings, const Exec& exec,
-                                        DepthCleanupStats& depth_stats) {
+Result<std::unique_ptr<LayerSource>> input_layers(const ImageSet& input, const InputChoice& choice,
+                                                  const BlurField& field, const Camera& camera,
+                                                  const DefocusOptions& settings, const Exec& exec,
+                                                  DepthCleanupStats& depth_stats) {
     switch (choice.kind) {
         case InputKind::Deep: return deep_layers(input.deep(std::size_t(choice.deep_part)), field, camera, settings, exec);
         case InputKind::Parts: {
             auto layers = layers_from_parts(input, settings.source, exec);
             if (!layers) return layers.status().prefix("defocus");
-            return layers;
+            return source_of(std::move(layers).value());
         }
         case InputKind::DepthMap: break;
     }
@@ -360,15 +360,15 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
 
     const auto t0 = std::chrono::steady_clock::now();
     DepthCleanupStats depth_stats;
-    Result<std::vector<Layer>> layers = input_layers(input, choice, field, camera, settings, exec, depth_stats);
+    auto layers = input_layers(input, choice, field, camera, settings, exec, depth_stats);
     const double t_layers = seconds_since(t0);
     if (!layers) return layers.status();
-    if (layers->empty()) return Status::error("defocus: the input gave no layers");
+    if ((*layers)->size() == 0) return Status::error("defocus: the input gave no layers");
 
     DefocusStats local;
     DefocusStats& S = stats ? *stats : local;
-    auto out = defocus_layers(*layers, field, camera, settings, &S, exec);
-    S.t_layers = t_layers;
+    auto out = defocus_layers(**layers, field, camera, settings, &S, exec);
+    S.t_layers += t_layers;  // the preparation for all layers, then each layer's making
     S.depth = depth_stats;
     if (!out) return out.status();
 

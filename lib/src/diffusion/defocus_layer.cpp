@@ -47,30 +47,47 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
     const int w = win.width();
     if (win.empty()) return a;
 
-    // Content: any of R, G, B, A non-zero. Colour must be finite.
+    // Content: any of R, G, B, A non-zero. Colour must be finite. Rows in
+    // parallel, each with its own span; the first bad pixel in row order
+    // is the one reported.
     const float* planes[4] = {img.plane(a.rgba.r), img.plane(a.rgba.g), img.plane(a.rgba.b), img.plane(a.rgba.a)};
+    std::vector<int> row_min(std::size_t(win.height()), w), row_max(std::size_t(win.height()), -1);
+    std::vector<unsigned char> row_alpha(std::size_t(win.height()), 0);
+    Status st = parallel_run(exec, win.height(), [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y) {
+            int xmin = w, xmax = -1;
+            bool alpha = false;
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                bool nz = false;
+                for (int c = 0; c < 4; ++c) {
+                    const float v = planes[c][i];
+                    if (!std::isfinite(v))
+                        return Status::error(where + ": channel '" + std::string("RGBA").substr(std::size_t(c), 1) +
+                                             "' is " + num(v) + " at pixel " + pixel_str(win.x0 + x, win.y0 + int(y)) +
+                                             " (colour must be finite)");
+                    nz = nz || v != 0.0f;
+                }
+                alpha = alpha || planes[3][i] > 0.0f;
+                if (nz) {
+                    xmin = std::min(xmin, x);
+                    xmax = x;
+                }
+            }
+            row_min[std::size_t(y)] = xmin;
+            row_max[std::size_t(y)] = xmax;
+            row_alpha[std::size_t(y)] = alpha;
+        }
+        return Status::ok();
+    }, 16);
+    if (!st) return st;
     bool any_alpha = false;
     Roi content;
     for (int y = 0; y < win.height(); ++y) {
-        int xmin = w, xmax = -1;
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
-            bool nz = false;
-            for (int c = 0; c < 4; ++c) {
-                const float v = planes[c][i];
-                if (!std::isfinite(v))
-                    return Status::error(where + ": channel '" + std::string("RGBA").substr(std::size_t(c), 1) +
-                                         "' is " + num(v) + " at pixel " + pixel_str(win.x0 + x, win.y0 + y) +
-                                         " (colour must be finite)");
-                nz = nz || v != 0.0f;
-            }
-            any_alpha = any_alpha || planes[3][i] > 0.0f;
-            if (nz) {
-                xmin = std::min(xmin, x);
-                xmax = x;
-            }
-        }
-        if (xmax >= 0) content = unite(content, Roi{win.x0 + xmin, win.y0 + y, win.x0 + xmax + 1, win.y0 + y + 1});
+        any_alpha = any_alpha || row_alpha[std::size_t(y)];
+        if (row_max[std::size_t(y)] >= 0)
+            content = unite(content, Roi{win.x0 + row_min[std::size_t(y)], win.y0 + y, win.x0 + row_max[std::size_t(y)] + 1,
+                                         win.y0 + y + 1});
     }
     if (content.empty()) return a;
     a.empty = false;
@@ -86,24 +103,32 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
         return st.prefix(where + ": blur field");
 
     const int zc = img.channel_index("Z");
+    std::vector<double> row_rmax(std::size_t(win.height()), 0.0);
+    st = parallel_run(exec, win.height(), [&](long y0, long y1) {
+        for (long yy = y0; yy < y1; ++yy)
+            for (int xx = 0; xx < w; ++xx) {
+                const std::size_t i = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
+                if (!(known_weight(a, layer, i) > 0.0f)) continue;
+                float& r = a.radius[i];
+                const int x = win.x0 + xx, y = win.y0 + int(yy);
+                if (!std::isfinite(r)) {
+                    std::string depth;
+                    if (zc >= 0 && img.plane(zc)) depth = " (depth Z = " + num(img.plane(zc)[i]) + ")";
+                    return Status::error(where + ": the blur field is " + num(r) + " at covered pixel " + pixel_str(x, y) +
+                                         depth + "; expected a finite radius");
+                }
+                if (r < 0.0f) r = 0.0f;
+                if (double(r) > settings.max_radius)
+                    return Status::error(where + ": blur radius " + num(r) + " px at pixel " + pixel_str(x, y) +
+                                         " exceeds the diffusion max_radius " + num(settings.max_radius) +
+                                         " px (clamp the blur field with \"max_radius\")");
+                row_rmax[std::size_t(yy)] = std::max(row_rmax[std::size_t(yy)], double(r));
+            }
+        return Status::ok();
+    }, 16);
+    if (!st) return st;
     double rmax = 0.0;
-    for (std::size_t i = 0; i < a.radius.size(); ++i) {
-        if (!(known_weight(a, layer, i) > 0.0f)) continue;
-        float& r = a.radius[i];
-        const int x = win.x0 + int(i % std::size_t(w)), y = win.y0 + int(i / std::size_t(w));
-        if (!std::isfinite(r)) {
-            std::string depth;
-            if (zc >= 0 && img.plane(zc)) depth = " (depth Z = " + num(img.plane(zc)[i]) + ")";
-            return Status::error(where + ": the blur field is " + num(r) + " at covered pixel " + pixel_str(x, y) +
-                                 depth + "; expected a finite radius");
-        }
-        if (r < 0.0f) r = 0.0f;
-        if (double(r) > settings.max_radius)
-            return Status::error(where + ": blur radius " + num(r) + " px at pixel " + pixel_str(x, y) +
-                                 " exceeds the diffusion max_radius " + num(settings.max_radius) +
-                                 " px (clamp the blur field with \"max_radius\")");
-        rmax = std::max(rmax, double(r));
-    }
+    for (double r : row_rmax) rmax = std::max(rmax, r);
     a.max_radius = rmax;
     return a;
 }

@@ -15,6 +15,7 @@
 // come from the whole layer, so a sub-region runs the same operator as the
 // whole render and differs only by the insulated boundary of C, at least
 // m(R_max) away from the output.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -56,75 +57,27 @@ Exec sub_exec(const Exec& exec, double a, double b) {
     return e;
 }
 
-constexpr double kAnalysisShare = 0.1;  // of the progress bar
-
-// Step 1: every layer analysed over its whole window.
-struct Analysis {
-    std::vector<LayerAnalysis> layers;
-    Roi display, frame;  // unions of the layers' display and data windows
-    double max_radius = 0.0;
+// One layer's regions (the file comment): whole V_i and work W_i; empty
+// for empty and sharp layers.
+struct LayerWindows {
+    Roi whole, work;
 };
 
-Result<Analysis> analyse_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
-                                const DiffusionOptions& settings, DefocusStats& S, const Exec& exec) {
-    const int nl = int(layers.size());
-    Analysis an;
-    an.layers.resize(static_cast<std::size_t>(nl));
-    for (int i = 0; i < nl; ++i) {
-        if (exec.is_cancelled()) return Status::cancelled("defocus");
-        const auto t0 = std::chrono::steady_clock::now();
-        const Exec e = sub_exec(exec, kAnalysisShare * i / nl, kAnalysisShare * (i + 1) / nl);
-        auto r = analyse_layer(layers[std::size_t(i)], i, field, camera, settings, e);
-        S.t_blur += seconds_since(t0);
-        if (!r) return r.status();
-        an.layers[std::size_t(i)] = std::move(r).value();
-        an.display = unite(an.display, layers[std::size_t(i)].image.display_window());
-        an.frame = unite(an.frame, layers[std::size_t(i)].image.data_window());
-        an.max_radius = std::max(an.max_radius, an.layers[std::size_t(i)].max_radius);
+LayerWindows layer_windows(const LayerAnalysis& a, const Roi& limit, const Roi& clip, const DefocusOptions& settings) {
+    LayerWindows w;
+    if (!a.empty && a.max_radius > 0.0) {
+        w.whole = intersect(a.content.grown(work_margin(settings, a.max_radius)), limit);
+        w.work = intersect(w.whole, clip);
     }
-    return an;
-}
-
-// Step 2: the windows of the file comment (limit L, clip C, whole V_i, work
-// W_i, output O).
-struct Windows {
-    Roi limit, clip, output;
-    std::vector<Roi> whole, work;  // empty for empty and sharp layers
-};
-
-Windows plan_windows(const std::vector<Layer>& layers, const Analysis& an, const DefocusOptions& settings) {
-    const Roi& roi = settings.roi;
-    const std::size_t nl = layers.size();
-    Windows w;
-    w.limit = unite(an.display, an.frame);
-    w.clip = roi.empty() ? w.limit : intersect(defocus_input_region(roi, an.max_radius), w.limit);
-    w.whole.resize(nl);
-    w.work.resize(nl);
-    for (std::size_t i = 0; i < nl; ++i) {
-        const LayerAnalysis& a = an.layers[i];
-        if (!a.empty && a.max_radius > 0.0) {
-            w.whole[i] = intersect(a.content.grown(work_margin(settings, a.max_radius)), w.limit);
-            w.work[i] = intersect(w.whole[i], w.clip);
-        }
-        w.output = unite(w.output, w.work[i]);
-        w.output = unite(w.output, intersect(layers[i].image.data_window(), w.limit));
-    }
-    w.output = roi.empty() ? intersect(w.output, w.limit) : roi;
     return w;
 }
 
-// Progress over step 3: after the analysis share, in proportion to the
-// work-region pixels of the layers that reach the output.
-struct DiffusionProgress {
-    double total = 0.0, done = 0.0;
-    double at(double d) const { return kAnalysisShare + (1.0 - kAnalysisShare) * (total > 0 ? d / total : 1.0); }
-};
-
 // Step 3 for one layer: skipped (empty, or out of reach of the output),
-// passed through (sharp) or diffused, then composited onto `out`.
-Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Windows& w, const DefocusOptions& settings,
-                    const BokehFilter* bokeh, const Roi& frame, Image& out, DiffusionProgress& progress, DefocusStats& S,
-                    const Exec& exec) {
+// passed through (sharp) or diffused, then composited onto `out`; `exec`
+// reports this layer's progress from 0 to 1.
+Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const LayerWindows& w, const Roi& output,
+                    const DefocusOptions& settings, const BokehFilter* bokeh, const Roi& frame, Image& out,
+                    DefocusStats& S, const Exec& exec) {
     const Roi lwin = layer.image.data_window();
     if (a.empty) {
         ++S.layers_empty;
@@ -141,43 +94,145 @@ Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Win
         S.t_composite += seconds_since(t0);
         return st;
     }
-    const Roi& work = w.work[std::size_t(i)];
-    if (intersect(work, w.output).empty()) {  // cannot reach the output (sub-regions)
+    if (intersect(w.work, output).empty()) {  // cannot reach the output (sub-regions)
         S.pixels_skipped += lwin.npixels();
         return Status::ok();
     }
-    const double share = double(work.npixels());
     DiffusedLayer d;
-    Status st = diffuse_layer(layer, i, a, work, w.whole[std::size_t(i)], settings.diffusion, bokeh, frame,
-                              sub_exec(exec, progress.at(progress.done), progress.at(progress.done + share)), d, S);
+    Status st = diffuse_layer(layer, i, a, w.work, w.whole, settings.diffusion, bokeh, frame, sub_exec(exec, 0.0, 0.95), d, S);
     if (!st) return st;
-    S.pixels_diffused += work.npixels();
-    S.pixels_skipped += lwin.npixels() - intersect(lwin, work).npixels();
+    S.pixels_diffused += w.work.npixels();
+    S.pixels_skipped += lwin.npixels() - intersect(lwin, w.work).npixels();
     const auto t0 = std::chrono::steady_clock::now();
-    st = composite_over(out, {d.rgba.plane(0), d.rgba.plane(1), d.rgba.plane(2), d.rgba.plane(3)}, work, exec);
+    st = composite_over(out, {d.rgba.plane(0), d.rgba.plane(1), d.rgba.plane(2), d.rgba.plane(3)}, w.work, exec);
     S.t_composite += seconds_since(t0);
-    if (!st) return st;
-    progress.done += share;
-    exec.report(progress.at(progress.done));
-    return Status::ok();
+    return st;
+}
+
+// Layer i of the source, made (its time counted as the layers' stage).
+Result<const Layer*> make_layer(const LayerSource& source, int i, Layer& storage, DefocusStats& S, const Exec& exec) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto made = source.make(i, storage, exec);
+    S.t_layers += seconds_since(t0);
+    if (!made) return made.status().prefix("defocus");
+    return made;
+}
+
+Result<LayerAnalysis> analyse(const Layer& layer, int i, const BlurField& field, const Camera& camera,
+                              const DefocusOptions& settings, DefocusStats& S, const Exec& exec) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = analyse_layer(layer, i, field, camera, settings.diffusion, exec);
+    S.t_blur += seconds_since(t0);
+    if (r) S.max_radius_px = std::max(S.max_radius_px, r->max_radius);
+    return r;
+}
+
+// The whole result, one layer at a time, back to front: each layer is made,
+// analysed, diffused and composited, then dropped, so only one layer's
+// pixels are in memory. The result is accumulated over the frame L and
+// cropped to the output window O at the end (the same bits: outside every
+// work region and layer window nothing is composited).
+Result<Image> defocus_streamed(const LayerSource& source, const BlurField& field, const Camera& camera,
+                               const DefocusOptions& settings, const BokehFilter* bokeh, DefocusStats& S,
+                               const Exec& exec) {
+    const int nl = source.size();
+    const Roi display = source.display_window();
+    const Roi limit = unite(display, source.frame());
+    const Roi frame = display.empty() ? limit : display;
+    Image out = Image::with_channels({"R", "G", "B", "A"}, limit);
+    out.set_display_window(display);
+    Roi output;
+    for (int i = nl - 1; i >= 0; --i) {  // back to front
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
+        const double p0 = double(nl - 1 - i) / nl, p1 = double(nl - i) / nl;  // this layer's share of the bar
+        Layer storage;
+        auto made = make_layer(source, i, storage, S, sub_exec(exec, p0, p0 + 0.2 * (p1 - p0)));
+        if (!made) return made.status();
+        const Layer& layer = **made;
+        auto a = analyse(layer, i, field, camera, settings, S, sub_exec(exec, p0 + 0.2 * (p1 - p0), p0 + 0.3 * (p1 - p0)));
+        if (!a) return a.status();
+        const LayerWindows w = layer_windows(*a, limit, limit, settings);
+        output = unite(output, w.work);
+        output = unite(output, intersect(layer.image.data_window(), limit));
+        if (Status st = render_layer(layer, i, *a, w, limit, settings, bokeh, frame, out, S,
+                                     sub_exec(exec, p0 + 0.3 * (p1 - p0), p1));
+            !st)
+            return st;
+        exec.report(p1);
+    }
+    output = intersect(output, limit);
+    if (output == limit) return out;
+    Image cropped = Image::with_channels({"R", "G", "B", "A"}, output);
+    cropped.set_display_window(display);
+    for (int c = 0; c < 4; ++c)
+        for (int y = output.y0; y < output.y1; ++y)
+            std::copy_n(out.plane(c) + out.offset(output.x0, y), output.width(), cropped.plane(c) + cropped.offset(output.x0, y));
+    return cropped;
+}
+
+// A sub-region: every layer's largest blur sets the input region needed, so
+// all layers are made and analysed first, then diffused back to front.
+Result<Image> defocus_region(const LayerSource& source, const BlurField& field, const Camera& camera,
+                             const DefocusOptions& settings, const BokehFilter* bokeh, DefocusStats& S,
+                             const Exec& exec) {
+    const int nl = source.size();
+    std::vector<Layer> storage(static_cast<std::size_t>(nl));
+    std::vector<const Layer*> layers(static_cast<std::size_t>(nl));
+    std::vector<LayerAnalysis> an(static_cast<std::size_t>(nl));
+    Roi display, data;
+    double max_radius = 0.0;
+    constexpr double kAnalysisShare = 0.1;  // of the progress bar
+    for (int i = 0; i < nl; ++i) {
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
+        const Exec e = sub_exec(exec, kAnalysisShare * i / nl, kAnalysisShare * (i + 1) / nl);
+        auto made = make_layer(source, i, storage[std::size_t(i)], S, e);
+        if (!made) return made.status();
+        layers[std::size_t(i)] = *made;
+        auto a = analyse(**made, i, field, camera, settings, S, e);
+        if (!a) return a.status();
+        an[std::size_t(i)] = std::move(a).value();
+        display = unite(display, (*made)->image.display_window());
+        data = unite(data, (*made)->image.data_window());
+        max_radius = std::max(max_radius, an[std::size_t(i)].max_radius);
+    }
+    const Roi limit = unite(display, data);
+    const Roi clip = intersect(defocus_input_region(settings.roi, max_radius), limit);
+    const Roi& output = settings.roi;
+    const Roi frame = display.empty() ? limit : display;
+    std::vector<LayerWindows> w(static_cast<std::size_t>(nl));
+    double total = 0.0;
+    for (int i = 0; i < nl; ++i) {
+        w[std::size_t(i)] = layer_windows(an[std::size_t(i)], limit, clip, settings);
+        if (!intersect(w[std::size_t(i)].work, output).empty()) total += double(w[std::size_t(i)].work.npixels());
+    }
+    Image out = Image::with_channels({"R", "G", "B", "A"}, output);
+    out.set_display_window(display);
+    double done = 0.0;
+    auto at = [&](double d) { return kAnalysisShare + (1.0 - kAnalysisShare) * (total > 0 ? d / total : 1.0); };
+    for (int i = nl - 1; i >= 0; --i) {  // back to front
+        if (exec.is_cancelled()) return Status::cancelled("defocus");
+        const LayerWindows& lw = w[std::size_t(i)];
+        const double share = intersect(lw.work, output).empty() ? 0.0 : double(lw.work.npixels());
+        if (Status st = render_layer(*layers[std::size_t(i)], i, an[std::size_t(i)], lw, output, settings, bokeh, frame,
+                                     out, S, sub_exec(exec, at(done), at(done + share)));
+            !st)
+            return st;
+        done += share;
+        exec.report(at(done));
+        storage[std::size_t(i)] = Layer{};  // made layers are not needed any more
+    }
+    return out;
 }
 
 }  // namespace
 
-Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+Result<Image> defocus_layers(const LayerSource& source, const BlurField& field, const Camera& camera,
                              const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
     if (Status st = validate(settings); !st) return st;
     DefocusStats local;
     DefocusStats& S = stats ? *stats : local;
     S = DefocusStats{};
-    const int nl = int(layers.size());
-    S.layers = nl;
-
-    auto an = analyse_layers(layers, field, camera, settings.diffusion, S, exec);
-    if (!an) return an.status();
-    S.max_radius_px = an->max_radius;
-    const Windows w = plan_windows(layers, *an, settings);
-
+    S.layers = source.size();
     // The bokeh filter's aperture, prepared once for every layer.
     std::optional<BokehFilter> bokeh;
     if (settings.filter == DefocusFilter::Bokeh) {
@@ -185,22 +240,16 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
         if (!f) return f.status();
         bokeh = std::move(f).value();
     }
-    const Roi frame = an->display.empty() ? w.limit : an->display;
-
-    Image out = Image::with_channels({"R", "G", "B", "A"}, w.output);
-    out.set_display_window(an->display);
-    DiffusionProgress progress;
-    for (int i = 0; i < nl; ++i)
-        if (!intersect(w.work[std::size_t(i)], w.output).empty()) progress.total += double(w.work[std::size_t(i)].npixels());
-    for (int i = nl - 1; i >= 0; --i) {  // back to front
-        if (exec.is_cancelled()) return Status::cancelled("defocus");
-        if (Status st = render_layer(layers[std::size_t(i)], i, an->layers[std::size_t(i)], w, settings, bokeh ? &*bokeh : nullptr,
-                                     frame, out, progress, S, exec);
-            !st)
-            return st;
-    }
-    exec.report(1.0);
+    const BokehFilter* b = bokeh ? &*bokeh : nullptr;
+    auto out = settings.roi.empty() ? defocus_streamed(source, field, camera, settings, b, S, exec)
+                                    : defocus_region(source, field, camera, settings, b, S, exec);
+    if (out) exec.report(1.0);
     return out;
+}
+
+Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                             const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
+    return defocus_layers(*source_of(layers), field, camera, settings, stats, exec);
 }
 
 const char* to_string(DefocusFilter f) { return f == DefocusFilter::Bokeh ? "bokeh" : "diffusion"; }

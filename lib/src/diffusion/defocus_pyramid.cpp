@@ -68,12 +68,13 @@ float level_of(float r, int levels) {
 // the kept radii (diffusivity goes with R^2; the smallest radius, tried
 // first, under-blurred cells that straddle a change of blur: +5% error on
 // the benchmark's Cornell box).
+// Only the cells of `needed` (the ones solved and read back) are computed.
 Grid build_level(const float* const planes[4], const std::vector<float>& radius, const Roi& work, int j,
-                 const Exec& exec) {
+                 const Roi& needed, const Exec& exec) {
     const int s = 1 << j;
     Grid g(Roi{floor_div(work.x0, s), floor_div(work.y0, s), ceil_div(work.x1, s), ceil_div(work.y1, s)});
     const float keep = float(kLevelRadius * std::ldexp(1.0, j - 2));
-    const Roi& w = g.win;
+    const Roi w = intersect(g.win, needed);  // only the cells that are solved
     const int W = work.width();
     parallel_for(exec, w.height(), [&](long y0, long y1) {
         for (long yl = y0; yl < y1; ++yl) {
@@ -106,16 +107,32 @@ Grid build_level(const float* const planes[4], const std::vector<float>& radius,
 // For every level, the cells its pixels' blends use (pixel l uses levels
 // floor(l) and, when l is not whole, the next), grown by the reach of a
 // level blur (2c) and the B-spline footprint, within the level's window.
-std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels) {
-    std::vector<Roi> px(static_cast<std::size_t>(levels) + 1);  // pixels that use each level
-    const int W = work.width();
-    for (int y = 0; y < work.height(); ++y)
-        for (int x = 0; x < W; ++x) {
-            const float l = lev[std::size_t(y) * std::size_t(W) + std::size_t(x)];
-            const int j0 = std::min(int(l), levels);
-            const Roi p{work.x0 + x, work.y0 + y, work.x0 + x + 1, work.y0 + y + 1};
-            px[std::size_t(j0)] = unite(px[std::size_t(j0)], p);
-            if (j0 < levels && l > float(j0)) px[std::size_t(j0) + 1] = unite(px[std::size_t(j0) + 1], p);
+std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels, const Exec& exec) {
+    // Per row and level: the span of pixels that use the level.
+    const int W = work.width(), H = work.height();
+    const std::size_t nl = std::size_t(levels) + 1;
+    std::vector<int> lo(std::size_t(H) * nl, W), hi(std::size_t(H) * nl, -1);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (long y = r0; y < r1; ++y) {
+            int* l = lo.data() + std::size_t(y) * nl;
+            int* h = hi.data() + std::size_t(y) * nl;
+            for (int x = 0; x < W; ++x) {
+                const float v = lev[std::size_t(y) * std::size_t(W) + std::size_t(x)];
+                const int j0 = std::min(int(v), levels);
+                l[j0] = std::min(l[j0], x);
+                h[j0] = std::max(h[j0], x);
+                if (j0 < levels && v > float(j0)) {
+                    l[j0 + 1] = std::min(l[j0 + 1], x);
+                    h[j0 + 1] = std::max(h[j0 + 1], x);
+                }
+            }
+        }
+    }, 16);
+    std::vector<Roi> px(nl);  // pixels that use each level
+    for (int y = 0; y < H; ++y)
+        for (std::size_t j = 0; j < nl; ++j) {
+            const std::size_t k = std::size_t(y) * nl + j;
+            if (hi[k] >= lo[k]) px[j] = unite(px[j], Roi{work.x0 + lo[k], work.y0 + y, work.x0 + hi[k] + 1, work.y0 + y + 1});
         }
     std::vector<Roi> cells(px.size());
     for (int j = 0; j <= levels; ++j) {
@@ -129,30 +146,99 @@ std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, in
     return cells;
 }
 
-// Diffuses the cells `box` of a level with radii min(R / scale, 2c), less the
-// resampling variance on coarse levels; `layer_max` is the whole layer's
+// Diffuses the cells `box` of a level; `layer_max` is the whole layer's
 // largest radius (full-resolution px), which sets the step count.
+// The level's radii: min(R / scale, 2c), less the resampling variance on
+// coarse levels.
+double level_radius(double r_full, int scale) {
+    const double r = std::min(r_full / scale, 2.0 * kLevelRadius);
+    return scale == 1 ? r : std::sqrt(std::max(0.0, r * r - kResampleR2));
+}
+
+// The pixels of a W x H mask within chessboard distance m of a set pixel
+// (a square dilation: rows, then columns).
+std::vector<unsigned char> dilate(const std::vector<unsigned char>& mask, int W, int H, int m, const Exec& exec) {
+    std::vector<unsigned char> rows(mask.size(), 0), out(mask.size(), 0);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (long y = r0; y < r1; ++y) {
+            const unsigned char* in = mask.data() + std::size_t(y) * std::size_t(W);
+            unsigned char* o = rows.data() + std::size_t(y) * std::size_t(W);
+            int last = -1 - m;  // nearest set pixel at or left of x
+            for (int x = 0; x < W; ++x) {
+                if (in[x]) last = x;
+                if (x - last <= m) o[x] = 1;
+            }
+            last = W + m;
+            for (int x = W - 1; x >= 0; --x) {
+                if (in[x]) last = x;
+                if (last - x <= m) o[x] = 1;
+            }
+        }
+    }, 16);
+    // Columns in blocks, rows walked in order (memory read row by row).
+    constexpr long kCols = 256;
+    parallel_for(exec, (W + kCols - 1) / kCols, [&](long b0, long b1) {
+        const int xa = int(b0 * kCols), xb = std::min(W, int(b1 * kCols));
+        std::vector<int> last(std::size_t(xb - xa), -1 - m);
+        for (int y = 0; y < H; ++y)
+            for (int x = xa; x < xb; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (rows[i]) last[std::size_t(x - xa)] = y;
+                if (y - last[std::size_t(x - xa)] <= m) out[i] = 1;
+            }
+        std::fill(last.begin(), last.end(), H + m);
+        for (int y = H - 1; y >= 0; --y)
+            for (int x = xa; x < xb; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (rows[i]) last[std::size_t(x - xa)] = y;
+                if (last[std::size_t(x - xa)] - y <= m) out[i] = 1;
+            }
+    });
+    return out;
+}
+
+// Diffuses four row-major planes over `box` in place (the cells of a level,
+// or level 0's pixels), with the radii of `cell_radius` (rows row_stride
+// apart). `used` (optional, over box): the pixels whose result is read. The
+// explicit stencil moves values one pixel per iteration, so pixels farther
+// than the iteration count from every used pixel cannot reach one: they are
+// made insulating (radius 0), which the solver skips, and the used pixels
+// get the same bits.
+Status solve_level_in_place(const ImageView& planes, const float* cell_radius, std::size_t row_stride, int scale,
+                            double layer_max, const DiffusionOptions& settings, const Exec& exec,
+                            const std::vector<unsigned char>* used = nullptr) {
+    const Roi& box = planes.window;
+    const int W = box.width();
+    std::vector<float> radius(box.npixels());
+    parallel_for(exec, box.height(), [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x)
+                radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] =
+                    float(level_radius(cell_radius[std::size_t(y) * row_stride + std::size_t(x)], scale));
+    }, 16);
+    DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    if (used && s.solver == DiffusionSolver::Explicit) {
+        const int iterations = explicit_iterations(level_radius(layer_max, scale), settings);
+        const std::vector<unsigned char> reach = dilate(*used, W, box.height(), iterations + 2, exec);
+        bool cut = false;
+        for (std::size_t i = 0; i < radius.size(); ++i)
+            if (!reach[i] && radius[i] > 0.0f) radius[i] = 0.0f, cut = true;
+        if (cut) s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    }
+    return diffuse_planes(planes, ConstImageView::planar(radius.data(), 1, box), s, exec);
+}
+
+// The same on a copy of the box's planes, in `out` (4 planes over box).
 Status solve_level(const float* const planes[4], const float* cell_radius, const Roi& box, std::size_t row_stride,
                    int scale, double layer_max, const DiffusionOptions& settings, const Exec& exec,
                    std::vector<float>& out) {
-    const double cap = 2.0 * kLevelRadius;
-    auto level_radius = [&](double r_full) {
-        const double r = std::min(r_full / scale, cap);
-        return scale == 1 ? r : std::sqrt(std::max(0.0, r * r - kResampleR2));
-    };
     const std::size_t n = box.npixels();
     const int W = box.width();
     out.assign(4 * n, 0.0f);
-    std::vector<float> radius(n);
     for (int y = 0; y < box.height(); ++y)
-        for (int x = 0; x < W; ++x) {
-            const std::size_t src = std::size_t(y) * row_stride + std::size_t(x);
-            const std::size_t dst = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            radius[dst] = float(level_radius(cell_radius[src]));
-            for (int c = 0; c < 4; ++c) out[std::size_t(c) * n + dst] = planes[c][src];
-        }
-    const DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max), radius);
-    return diffuse_planes(ImageView::planar(out.data(), 4, box), ConstImageView::planar(radius.data(), 1, box), s, exec);
+        for (int c = 0; c < 4; ++c)
+            std::copy_n(planes[c] + std::size_t(y) * row_stride, W, out.data() + std::size_t(c) * n + std::size_t(y) * std::size_t(W));
+    return solve_level_in_place(ImageView::planar(out.data(), 4, box), cell_radius, row_stride, scale, layer_max, settings, exec);
 }
 
 // Cubic B-spline weights of the four cells around a fractional position t
@@ -174,51 +260,81 @@ int tap(int i, int lo, int hi, int blo, int bhi) {
     return std::clamp(i, blo, bhi - 1);
 }
 
-// One level brought back to full resolution for one row of pixels:
-// cubic B-spline weighted by each cell's kept area (normalised), so that
-// insulating cells do not darken the blurred pixels beside them.
-struct LevelReturn {
-    const std::vector<float>& sol;  // 4 planes over box
-    const Roi& box;
-    const Grid& level;
-    int scale;
-    // Weighted sums over the box's columns for the row at absolute pixel y:
-    // 4 colour planes times area, and the area.
-    void vertical(int y, std::vector<double>& row) const {
-        const int BW = box.width();
-        row.assign(5 * std::size_t(BW), 0.0);
-        const double v = (y + 0.5) / scale - 0.5;
-        const int Y0 = int(std::floor(v));
+// The four cells a pixel's cubic B-spline return reads along one axis
+// (indices relative to the solved box) and their weights.
+struct Taps {
+    int at[4];
+    float w[4];
+};
+
+// Taps of every pixel p in [p0, p1) of one axis for a level of `scale`
+// pixels per cell, window [lo, hi) and solved box [blo, bhi) (cells).
+std::vector<Taps> axis_taps(int p0, int p1, int scale, int lo, int hi, int blo, int bhi) {
+    std::vector<Taps> out(static_cast<std::size_t>(std::max(0, p1 - p0)));
+    for (int p = p0; p < p1; ++p) {
+        const double v = (p + 0.5) / scale - 0.5;
+        const int c0 = int(std::floor(v));
         double w[4];
-        bspline_weights(v - Y0, w);
-        const std::size_t n = box.npixels();
+        bspline_weights(v - c0, w);
+        Taps& t = out[std::size_t(p - p0)];
         for (int k = 0; k < 4; ++k) {
-            const int Y = tap(Y0 - 1 + k, level.win.y0, level.win.y1, box.y0, box.y1);
-            const float* area = level.area.data() + level.at(box.x0, Y);
-            const std::size_t r = std::size_t(Y - box.y0) * std::size_t(BW);
-            for (int X = 0; X < BW; ++X) {
-                const double wa = w[k] * area[X];
-                if (!(wa > 0.0)) continue;
-                for (int c = 0; c < 4; ++c) row[std::size_t(c) * BW + X] += wa * sol[std::size_t(c) * n + r + X];
-                row[4 * std::size_t(BW) + X] += wa;
+            t.at[k] = tap(c0 - 1 + k, lo, hi, blo, bhi) - blo;
+            t.w[k] = float(w[k]);
+        }
+    }
+    return out;
+}
+
+// One level brought back to full resolution, row by row: cubic B-spline
+// weighted by each cell's kept area (normalised), so that insulating cells
+// do not darken the blurred pixels beside them. The taps depend only on a
+// pixel's column or row, so they are computed once.
+struct LevelReturn {
+    const std::vector<float>* sol = nullptr;  // 4 planes over box
+    Roi box;
+    std::vector<Taps> cols, rows;   // per pixel column / row of the work region
+    std::vector<float> area;        // kept area over box
+    LevelReturn() = default;
+    LevelReturn(const std::vector<float>& s, const Roi& b, const Grid& level, int scale, const Roi& work)
+        : sol(&s), box(b) {
+        if (b.empty()) return;
+        cols = axis_taps(work.x0, work.x1, scale, level.win.x0, level.win.x1, b.x0, b.x1);
+        rows = axis_taps(work.y0, work.y1, scale, level.win.y0, level.win.y1, b.y0, b.y1);
+        area.resize(b.npixels());
+        for (int Y = b.y0; Y < b.y1; ++Y)
+            std::copy_n(level.area.data() + level.at(b.x0, Y), b.width(),
+                        area.data() + std::size_t(Y - b.y0) * std::size_t(b.width()));
+    }
+    // Sums over the box's columns for work row yl: the 4 colour planes times
+    // area, then the area (5 planes of the box's width).
+    void vertical(int yl, std::vector<float>& row) const {
+        const std::size_t BW = std::size_t(box.width()), n = box.npixels();
+        row.assign(5 * BW, 0.0f);
+        const Taps& t = rows[std::size_t(yl)];
+        for (int k = 0; k < 4; ++k) {
+            const std::size_t r = std::size_t(t.at[k]) * BW;
+            const float w = t.w[k];
+            const float* a = area.data() + r;
+            for (std::size_t X = 0; X < BW; ++X) {
+                const float wa = w * a[X];
+                for (int c = 0; c < 4; ++c) row[std::size_t(c) * BW + X] += wa * (*sol)[std::size_t(c) * n + r + X];
+                row[4 * BW + X] += wa;
             }
         }
     }
-    // The level's value at absolute pixel x of that row, times weight wgt, added to acc.
-    void horizontal(const std::vector<double>& row, int x, double wgt, double acc[4]) const {
+    // The level's value at work column xl of that row, times wgt, added to acc.
+    void horizontal(const std::vector<float>& row, int xl, float wgt, float acc[4]) const {
         const std::size_t BW = std::size_t(box.width());
-        const double u = (x + 0.5) / scale - 0.5;
-        const int X0 = int(std::floor(u));
-        double w[4];
-        bspline_weights(u - X0, w);
-        double num[4] = {0, 0, 0, 0}, den = 0.0;
+        const Taps& t = cols[std::size_t(xl)];
+        float num[4] = {0, 0, 0, 0}, den = 0.0f;
         for (int k = 0; k < 4; ++k) {
-            const std::size_t X = std::size_t(tap(X0 - 1 + k, level.win.x0, level.win.x1, box.x0, box.x1) - box.x0);
-            for (int c = 0; c < 4; ++c) num[c] += w[k] * row[std::size_t(c) * BW + X];
-            den += w[k] * row[4 * BW + X];
+            const std::size_t X = std::size_t(t.at[k]);
+            for (int c = 0; c < 4; ++c) num[c] += t.w[k] * row[std::size_t(c) * BW + X];
+            den += t.w[k] * row[4 * BW + X];
         }
-        if (!(den > 0.0)) return;
-        for (int c = 0; c < 4; ++c) acc[c] += wgt * num[c] / den;
+        if (!(den > 0.0f)) return;
+        const float f = wgt / den;
+        for (int c = 0; c < 4; ++c) acc[c] += f * num[c];
     }
 };
 
@@ -252,47 +368,85 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
     std::vector<float> lev(n);
-    for (std::size_t i = 0; i < n; ++i) lev[i] = level_of(radius[i], levels);
-    const std::vector<Roi> box = needed_cells(lev, work, levels);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * std::size_t(W); i < std::size_t(r1) * std::size_t(W); ++i)
+            lev[i] = level_of(radius[i], levels);
+    }, 16);
+    const std::vector<Roi> box = needed_cells(lev, work, levels, exec);
 
-    // Level j's cells (level 0: the pixels themselves) solved over its box;
-    // grid[0] stays empty (level 0's kept area is never read).
+    // Every coarse level built from the layer's planes first, then solved
+    // over its box (in place when the box is the whole level); then level 0
+    // (the pixels themselves), in place on the planes when it needs the whole
+    // work region: its values are read back pixel by pixel, before the
+    // blend writes each one.
     std::array<const float*, 4> src{};
     for (int c = 0; c < 4; ++c) src[std::size_t(c)] = planes.plane(c);
     std::vector<Grid> grid;
-    std::vector<std::vector<float>> sol(std::size_t(levels) + 1);
-    for (int j = 0; j <= levels; ++j) {
+    grid.emplace_back(Roi{});  // level 0's kept area is never read
+    for (int j = 1; j <= levels; ++j) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
-        grid.push_back(j == 0 ? Grid(Roi{}) : build_level(src.data(), radius, work, j, exec));
+        grid.push_back(build_level(src.data(), radius, work, j, box[std::size_t(j)], exec));
+    }
+    std::vector<std::vector<float>> sol(std::size_t(levels) + 1);
+    for (int j = 1; j <= levels; ++j) {
+        if (exec.is_cancelled()) return Status::cancelled("diffusion");
+        Grid& g = grid[std::size_t(j)];
         const Roi& b = box[std::size_t(j)];
-        if (b.empty()) continue;
-        const Grid& g = grid.back();
-        const float* p[4];
-        const float* r = nullptr;
-        std::size_t stride = 0;
-        if (j == 0) {
-            const std::size_t off = std::size_t(b.y0 - work.y0) * std::size_t(W) + std::size_t(b.x0 - work.x0);
-            for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
-            r = radius.data() + off;
-            stride = std::size_t(W);
-        } else {
-            const std::size_t off = g.at(b.x0, b.y0);
-            for (int c = 0; c < 4; ++c) p[c] = g.plane(c) + off;
-            r = g.radius.data() + off;
-            stride = std::size_t(g.win.width());
+        if (!b.empty()) {
+            Status st;
+            if (b == g.win) {
+                st = solve_level_in_place(ImageView::planar(g.rgba.data(), 4, b), g.radius.data(), std::size_t(b.width()),
+                                          1 << j, layer_max_radius, settings, exec);
+                sol[std::size_t(j)] = std::move(g.rgba);
+            } else {
+                const std::size_t off = g.at(b.x0, b.y0);
+                const float* p[4];
+                for (int c = 0; c < 4; ++c) p[c] = g.plane(c) + off;
+                st = solve_level(p, g.radius.data() + off, b, std::size_t(g.win.width()), 1 << j, layer_max_radius, settings,
+                                 exec, sol[std::size_t(j)]);
+            }
+            if (!st) return st;
         }
-        if (Status st = solve_level(p, r, b, stride, 1 << j, layer_max_radius, settings, exec, sol[std::size_t(j)]); !st)
-            return st;
+        g.rgba = {};  // only the kept area is read from here on
+        g.radius = {};
+    }
+    const Roi& box0 = box[0];
+    const bool level0_in_place = box0 == work;
+    if (!box0.empty()) {
+        if (exec.is_cancelled()) return Status::cancelled("diffusion");
+        // The pixels that blend level 0, over its box.
+        std::vector<unsigned char> used(box0.npixels());
+        parallel_for(exec, box0.height(), [&](long r0, long r1) {
+            for (int y = box0.y0 + int(r0); y < box0.y0 + int(r1); ++y)
+                for (int x = box0.x0; x < box0.x1; ++x)
+                    used[std::size_t(y - box0.y0) * std::size_t(box0.width()) + std::size_t(x - box0.x0)] =
+                        lev[std::size_t(y - work.y0) * std::size_t(W) + std::size_t(x - work.x0)] < 1.0f;
+        }, 16);
+        const std::size_t off = std::size_t(box0.y0 - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
+        Status st;
+        if (level0_in_place) {
+            st = solve_level_in_place(planes, radius.data(), std::size_t(W), 1, layer_max_radius, settings, exec, &used);
+        } else {
+            std::vector<float>& out = sol[0];
+            const std::size_t n0 = box0.npixels();
+            out.assign(4 * n0, 0.0f);
+            for (int y = 0; y < box0.height(); ++y)
+                for (int c = 0; c < 4; ++c)
+                    std::copy_n(src[std::size_t(c)] + off + std::size_t(y) * std::size_t(W), box0.width(),
+                                out.data() + std::size_t(c) * n0 + std::size_t(y) * std::size_t(box0.width()));
+            st = solve_level_in_place(ImageView::planar(out.data(), 4, box0), radius.data() + off, std::size_t(W), 1,
+                                      layer_max_radius, settings, exec, &used);
+        }
+        if (!st) return st;
     }
 
     // Per pixel: the two levels around its own, blended linearly in log2(R).
-    std::vector<LevelReturn> ret;
-    for (int j = 0; j <= levels; ++j)
-        ret.push_back(LevelReturn{sol[std::size_t(j)], box[std::size_t(j)], grid[std::size_t(j)], 1 << j});
-    const Roi& box0 = box[0];
+    std::vector<LevelReturn> ret(std::size_t(levels) + 1);
+    for (int j = 1; j <= levels; ++j)
+        ret[std::size_t(j)] = LevelReturn(sol[std::size_t(j)], box[std::size_t(j)], grid[std::size_t(j)], 1 << j, work);
     const std::size_t n0 = box0.npixels();
     const bool ok = parallel_for(exec, H, [&](long y0, long y1) {
-        std::vector<std::vector<double>> rows(std::size_t(levels) + 1);
+        std::vector<std::vector<float>> rows(std::size_t(levels) + 1);
         std::vector<char> used(std::size_t(levels) + 1);
         for (long yl = y0; yl < y1; ++yl) {
             const int y = work.y0 + int(yl);
@@ -304,25 +458,30 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
                 if (j0 < levels && lrow[x] > float(j0)) used[std::size_t(j0) + 1] = 1;
             }
             for (int j = 1; j <= levels; ++j)
-                if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(y, rows[std::size_t(j)]);
+                if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(int(yl), rows[std::size_t(j)]);
+            // Level 0 of this row, plane c (read at x before x is written).
+            const float* s0[4] = {nullptr, nullptr, nullptr, nullptr};
+            for (int c = 0; used[0] && c < 4; ++c)
+                s0[c] = level0_in_place ? planes.plane(c) + std::size_t(yl) * std::size_t(W)
+                                        : sol[0].data() + std::size_t(c) * n0 +
+                                              std::size_t(y - box0.y0) * std::size_t(box0.width()) +
+                                              std::size_t(work.x0 - box0.x0);
             for (int x = 0; x < W; ++x) {
                 const float l = lrow[x];
                 const int j0 = std::min(int(l), levels);
                 const float f = l - float(j0);
-                double a4[4] = {0, 0, 0, 0};
+                float a4[4] = {0, 0, 0, 0};
                 for (int k = 0; k < 2; ++k) {
                     const int j = j0 + k;
                     const float w = k == 0 ? 1.0f - f : f;
                     if (!(w > 0.0f) || j > levels) continue;
                     if (j == 0) {
-                        const std::size_t b = std::size_t(y - box0.y0) * std::size_t(box0.width()) +
-                                              std::size_t(work.x0 + x - box0.x0);
-                        for (int c = 0; c < 4; ++c) a4[c] += w * sol[0][std::size_t(c) * n0 + b];
+                        for (int c = 0; c < 4; ++c) a4[c] += w * s0[c][x];
                     } else {
-                        ret[std::size_t(j)].horizontal(rows[std::size_t(j)], work.x0 + x, w, a4);
+                        ret[std::size_t(j)].horizontal(rows[std::size_t(j)], x, w, a4);
                     }
                 }
-                for (int c = 0; c < 4; ++c) planes.plane(c)[std::size_t(yl) * std::size_t(W) + std::size_t(x)] = float(a4[c]);
+                for (int c = 0; c < 4; ++c) planes.plane(c)[std::size_t(yl) * std::size_t(W) + std::size_t(x)] = a4[c];
             }
         }
     });

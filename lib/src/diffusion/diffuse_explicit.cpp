@@ -19,6 +19,184 @@ namespace {
 constexpr float kEdge = 4.0f / 6.0f;
 constexpr float kDiag = 1.0f / 6.0f;
 
+// Link conductances (times dt) of one row y, each stored at the link's
+// first pixel: east (x+1), south (y+1), south-east (x+1, y+1), south-west
+// (x-1, y+1); 0 for links that leave the grid.
+struct LinkRow {
+    const float *ce, *cs, *cse, *csw;
+};
+
+// The conductances of the rows a band is working on, computed from the
+// diffusivity as the band advances (a ring of rows, in cache), instead of
+// four frame-sized arrays read on every pass.
+class LinkRing {
+public:
+    LinkRing(const float* diffusivity, int W, int H, float dt, int slots)
+        : d_(diffusivity), W_(W), H_(H), dt_(dt), slots_(slots), c_(4 * std::size_t(slots) * std::size_t(W)),
+          row_of_(std::size_t(slots), -1) {}
+    // Row y's links (computed on first use; rows are asked for in order).
+    LinkRow at(int y) {
+        const std::size_t slot = std::size_t(y % slots_);
+        float* base = c_.data() + 4 * slot * std::size_t(W_);
+        if (row_of_[slot] != y) {
+            fill(y, base);
+            row_of_[slot] = y;
+        }
+        const std::size_t w = std::size_t(W_);
+        return {base, base + w, base + 2 * w, base + 3 * w};
+    }
+
+private:
+    void fill(int y, float* base) const {
+        const std::size_t w = std::size_t(W_);
+        float *ce = base, *cs = base + w, *cse = base + 2 * w, *csw = base + 3 * w;
+        const float* r0 = d_ + std::size_t(y) * w;
+        const float* r1 = y + 1 < H_ ? r0 + w : nullptr;
+        for (int x = 0; x < W_; ++x) {
+            const float d = r0[x];
+            ce[x] = x + 1 < W_ ? dt_ * kEdge * std::min(d, r0[x + 1]) : 0.0f;
+            cs[x] = r1 ? dt_ * kEdge * std::min(d, r1[x]) : 0.0f;
+            cse[x] = r1 && x + 1 < W_ ? dt_ * kDiag * std::min(d, r1[x + 1]) : 0.0f;
+            csw[x] = r1 && x > 0 ? dt_ * kDiag * std::min(d, r1[x - 1]) : 0.0f;
+        }
+    }
+    const float* d_;
+    int W_, H_;
+    float dt_;
+    int slots_;
+    std::vector<float> c_;
+    std::vector<int> row_of_;
+};
+
+// One row of one plane, one iteration: `out` from the previous iterate's
+// rows above (`um`, null on the first row), at (`u0`) and below (`us`, null
+// on the last row); `c` the row's links, `n` the row above's. Only columns
+// [x0, x1) can change (the links elsewhere are 0): the rest is copied, which
+// is what the sums give there. The interior takes a branch-free loop the
+// compiler vectorises; the same sums in the same order as the border pixels'.
+__attribute__((target_clones("avx2", "default")))
+void step_row(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const float* __restrict um,
+              const float* __restrict u0, const float* __restrict us, float* __restrict out) {
+    const float* __restrict ce_r = c.ce;
+    const float* __restrict cs_r = c.cs;
+    const float* __restrict cse_r = c.cse;
+    const float* __restrict csw_r = c.csw;
+    const float* __restrict cs_n = n.cs;
+    const float* __restrict cse_n = n.cse;
+    const float* __restrict csw_n = n.csw;
+    auto checked = [&](int x) {
+        const float up = u0[x];
+        float acc = 0.0f;
+        if (x + 1 < W) acc += ce_r[x] * (u0[x + 1] - up);
+        if (x > 0) acc += ce_r[x - 1] * (u0[x - 1] - up);
+        if (us) {
+            acc += cs_r[x] * (us[x] - up);
+            if (x + 1 < W) acc += cse_r[x] * (us[x + 1] - up);
+            if (x > 0) acc += csw_r[x] * (us[x - 1] - up);
+        }
+        if (um) {
+            acc += cs_n[x] * (um[x] - up);
+            if (x > 0) acc += cse_n[x - 1] * (um[x - 1] - up);
+            if (x + 1 < W) acc += csw_n[x + 1] * (um[x + 1] - up);
+        }
+        out[x] = up + acc;
+    };
+    std::copy(u0, u0 + x0, out);
+    std::copy(u0 + x1, u0 + W, out + x1);
+    if (!um || !us || W < 3) {
+        for (int x = x0; x < x1; ++x) checked(x);
+        return;
+    }
+    if (x0 == 0) checked(0);
+    const int xa = std::max(1, x0), xb = std::min(W - 1, x1);
+    for (int x = xa; x < xb; ++x) {
+        const float up = u0[x];
+        const float acc = ce_r[x] * (u0[x + 1] - up) + ce_r[x - 1] * (u0[x - 1] - up) + cs_r[x] * (us[x] - up) +
+                          cse_r[x] * (us[x + 1] - up) + csw_r[x] * (us[x - 1] - up) + cs_n[x] * (um[x] - up) +
+                          cse_n[x - 1] * (um[x - 1] - up) + csw_n[x + 1] * (um[x + 1] - up);
+        out[x] = up + acc;
+    }
+    if (x1 == W && W > 1) checked(W - 1);
+}
+
+// Iterations fused per pass over memory: a band of rows is advanced k
+// iterations at once through ring buffers of three rows per intermediate
+// iterate (they stay in cache), so the planes cross memory once per k
+// iterations instead of once per iteration. Each band recomputes the k - 1
+// rows of halo it needs on either side from the same inputs, so every value
+// is the one a single-iteration sweep computes: the same bits for any band
+// layout and thread count.
+constexpr int kFused = 6;
+constexpr int kBandRows = 64;
+
+// Columns [x0, x1) of a band's rows whose pixels can change: those with a
+// diffusivity > 0 in rows [ya, yb) (a link's conductance is the smaller
+// diffusivity of its ends, so an insulating pixel never changes).
+struct Columns {
+    int x0 = 0, x1 = 0;
+};
+Columns active_columns(const float* d, int W, int ya, int yb) {
+    int lo = W, hi = -1;
+    for (int y = ya; y < yb; ++y) {
+        const float* r = d + std::size_t(y) * std::size_t(W);
+        int x = 0;
+        while (x < lo && !(r[x] > 0.0f)) ++x;
+        if (x < lo) lo = x;
+        int z = W - 1;
+        while (z > hi && !(r[z] > 0.0f)) --z;
+        if (z > hi) hi = z;
+    }
+    if (hi < lo) return {};
+    return {lo, hi + 1};
+}
+
+// Advances rows [y0, y1) of `src` by k iterations into `dst` (nc planes).
+// Where no diffusivity is > 0 (insulating pixels: everything stays), values
+// are copied instead of summed: the same bits.
+void advance_band(const float* diffusivity, int W, int H, float dt, std::span<float* const> src,
+                  std::span<float* const> dst, int y0, int y1, int k, std::vector<float>& ring) {
+    const int nc = int(src.size());
+    const std::size_t rw = std::size_t(W);
+    // Iterate s covers rows [lo(s), hi(s)); row t - s of iterate s is made at time t.
+    auto lo = [&](int s) { return std::max(0, y0 - (k - s)); };
+    auto hi = [&](int s) { return std::min(H, y1 + (k - s)); };
+    // A pixel's value moves only through links with diffusivity > 0 at both
+    // ends: the columns that can change anywhere in the band's reach.
+    const Columns cols = active_columns(diffusivity, W, std::max(0, lo(1) - 1), std::min(H, hi(1) + 1));
+    if (cols.x1 <= cols.x0) {
+        for (int c = 0; c < nc; ++c)
+            std::copy(src[std::size_t(c)] + std::size_t(y0) * rw, src[std::size_t(c)] + std::size_t(y1) * rw,
+                      dst[std::size_t(c)] + std::size_t(y0) * rw);
+        return;
+    }
+    // ring: (k - 1) iterates x 3 rows x nc planes.
+    ring.resize(std::size_t(std::max(0, k - 1)) * 3 * std::size_t(nc) * rw);
+    auto ring_row = [&](int s, int y, int c) {  // iterate s in 1..k-1
+        return ring.data() + ((std::size_t(s - 1) * 3 + std::size_t(y % 3)) * std::size_t(nc) + std::size_t(c)) * rw;
+    };
+    // Row y of iterate s (0: src, k: dst) for plane c; null outside the image.
+    auto row_of = [&](int s, int y, int c) -> float* {
+        if (y < 0 || y >= H) return nullptr;
+        if (s == 0) return src[std::size_t(c)] + std::size_t(y) * rw;
+        if (s == k) return dst[std::size_t(c)] + std::size_t(y) * rw;
+        return ring_row(s, y, c);
+    };
+    // At time t the rows t - 1 .. t - k are worked on, with the links of
+    // rows t - k - 1 .. t - 1.
+    LinkRing links(diffusivity, W, H, dt, k + 2);
+    const LinkRow none{nullptr, nullptr, nullptr, nullptr};
+    for (int t = lo(1) + 1; t < hi(1) + k; ++t)
+        for (int s = 1; s <= k; ++s) {
+            const int y = t - s;
+            if (y < lo(s) || y >= hi(s)) continue;
+            const LinkRow above = y > 0 ? links.at(y - 1) : none;
+            const LinkRow here = links.at(y);
+            for (int c = 0; c < nc; ++c)
+                step_row(W, cols.x0, cols.x1, here, above, row_of(s - 1, y - 1, c), row_of(s - 1, y, c),
+                         row_of(s - 1, y + 1, c), row_of(s, y, c));
+        }
+}
+
 // The solver on row-major planes of width x height.
 Status explicit_kernel(std::span<float* const> planes, int width, int height, const float* diffusivity,
                        const DiffusionOptions& settings, const Exec& exec) {
@@ -31,97 +209,33 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
     const int iters = explicit_iterations(rmax, settings);
     const float dt = float(1.0 / iters);
 
-    // Link conductances (times dt), each stored once at the link's first pixel:
-    // east (x+1), south (y+1), south-east (x+1, y+1), south-west (x-1, y+1).
-    std::vector<float> ce(n, 0.0f), cs(n, 0.0f), cse(n, 0.0f), csw(n, 0.0f);
-    auto D = [&](int x, int y) { return diffusivity[std::size_t(y) * std::size_t(W) + std::size_t(x)]; };
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            float d = D(x, y);
-            if (x + 1 < W) ce[i] = dt * kEdge * std::min(d, D(x + 1, y));
-            if (y + 1 < H) cs[i] = dt * kEdge * std::min(d, D(x, y + 1));
-            if (x + 1 < W && y + 1 < H) cse[i] = dt * kDiag * std::min(d, D(x + 1, y + 1));
-            if (x > 0 && y + 1 < H) csw[i] = dt * kDiag * std::min(d, D(x - 1, y + 1));
-        }
-
-    // All planes advance together, one iteration at a time, so every
-    // conductance is loaded once per iteration for all of them; interior
-    // pixels take a branch-free loop the compiler vectorises, the one-pixel
-    // frame the checked one. Ping-pong buffers, no copies between iterations.
+    // Ping-pong between the caller's planes and one set of buffers.
     const int nc = int(planes.size());
-    std::vector<std::vector<float>> next(planes.size());
-    for (auto& v : next) v.resize(n);
-    std::vector<float*> cur(planes.begin(), planes.end());
-    std::vector<float*> nxt(planes.size(), nullptr);
-    for (int c = 0; c < nc; ++c) nxt[std::size_t(c)] = next[std::size_t(c)].data();
-    auto checked = [&](const float* u, float* out, int x, int y) {
-        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-        const float up = u[i];
-        float acc = 0.0f;
-        if (x + 1 < W) acc += ce[i] * (u[i + 1] - up);
-        if (x > 0) acc += ce[i - 1] * (u[i - 1] - up);
-        if (y + 1 < H) {
-            const std::size_t s = i + std::size_t(W);
-            acc += cs[i] * (u[s] - up);
-            if (x + 1 < W) acc += cse[i] * (u[s + 1] - up);
-            if (x > 0) acc += csw[i] * (u[s - 1] - up);
-        }
-        if (y > 0) {
-            const std::size_t nn = i - std::size_t(W);
-            acc += cs[nn] * (u[nn] - up);
-            if (x > 0) acc += cse[nn - 1] * (u[nn - 1] - up);
-            if (x + 1 < W) acc += csw[nn + 1] * (u[nn + 1] - up);
-        }
-        out[i] = up + acc;
-    };
+    std::vector<float> next(std::size_t(nc) * n);
+    std::vector<float*> cur(planes.begin(), planes.end()), nxt(static_cast<std::size_t>(nc));
+    for (int c = 0; c < nc; ++c) nxt[std::size_t(c)] = next.data() + std::size_t(c) * n;
+    const long nbands = (H + kBandRows - 1) / kBandRows;
     bool cancelled = false;
-    for (int it = 0; it < iters; ++it) {
-        bool ok = parallel_for(exec, H, [&](long y0, long y1) {
+    for (int done = 0; done < iters;) {
+        const int k = std::min(kFused, iters - done);
+        const bool ok = parallel_for(exec, nbands, [&](long b0, long b1) {
             const ScopedFlushDenormals ftz;
-            for (long yl = y0; yl < y1; ++yl) {
-                const int y = int(yl);
-                for (int c = 0; c < nc; ++c) {
-                    const float* __restrict u = cur[std::size_t(c)];
-                    float* __restrict out = nxt[std::size_t(c)];
-                    if (y == 0 || y + 1 == H || W < 3) {
-                        for (int x = 0; x < W; ++x) checked(u, out, x, y);
-                        continue;
-                    }
-                    checked(u, out, 0, y);
-                    const std::size_t row = std::size_t(y) * std::size_t(W);
-                    const float* __restrict ce_r = ce.data() + row;
-                    const float* __restrict cs_r = cs.data() + row;
-                    const float* __restrict cse_r = cse.data() + row;
-                    const float* __restrict csw_r = csw.data() + row;
-                    const float* __restrict cs_n = cs_r - W;
-                    const float* __restrict cse_n = cse_r - W;
-                    const float* __restrict csw_n = csw_r - W;
-                    const float* __restrict um = u + row - W;
-                    const float* __restrict u0 = u + row;
-                    const float* __restrict us = u + row + W;
-                    float* __restrict o = out + row;
-                    for (int x = 1; x + 1 < W; ++x) {
-                        const float up = u0[x];
-                        const float acc = ce_r[x] * (u0[x + 1] - up) + ce_r[x - 1] * (u0[x - 1] - up) +
-                                          cs_r[x] * (us[x] - up) + cse_r[x] * (us[x + 1] - up) +
-                                          csw_r[x] * (us[x - 1] - up) + cs_n[x] * (um[x] - up) +
-                                          cse_n[x - 1] * (um[x - 1] - up) + csw_n[x + 1] * (um[x + 1] - up);
-                        o[x] = up + acc;
-                    }
-                    checked(u, out, W - 1, y);
-                }
-            }
-        }, 8);
+            std::vector<float> ring;
+            for (long b = b0; b < b1; ++b)
+                advance_band(diffusivity, W, H, dt, cur, nxt, int(b) * kBandRows, std::min(H, int(b + 1) * kBandRows), k,
+                             ring);
+        });
         if (!ok) {
             cancelled = true;
             break;
         }
         std::swap(cur, nxt);
+        done += k;
     }
     // The caller's planes hold the last complete iterate (cancelled or not).
     for (int c = 0; c < nc; ++c)
-        if (cur[std::size_t(c)] != planes[std::size_t(c)]) std::copy(cur[std::size_t(c)], cur[std::size_t(c)] + n, planes[std::size_t(c)]);
+        if (cur[std::size_t(c)] != planes[std::size_t(c)])
+            std::copy(cur[std::size_t(c)], cur[std::size_t(c)] + n, planes[std::size_t(c)]);
     if (cancelled) return Status::cancelled("diffusion");
     return Status::ok();
 }

@@ -1,6 +1,7 @@
 // Push-pull fill (Gortler et al., "The Lumigraph", 1996): push averages
 // weighted values down a 2x pyramid; pull blends each level with the
 // bilinear upsampling of the filled level above, by the level's own weight.
+// Float arithmetic; coarse levels only (level 0 is the caller's planes).
 #include "gdof/fill.h"
 
 #include <algorithm>
@@ -14,15 +15,133 @@ namespace gdof {
 
 namespace {
 
+// A coarse level: weights in [0, 1] and normalised (not weighted) values,
+// one plane after another.
 struct Level {
     int w = 0, h = 0;
-    std::vector<float> weight;               // in [0, 1]
-    std::vector<std::vector<float>> values;  // per plane, normalised (not weighted)
+    std::vector<float> weight, values;
+    float* plane(int c) { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
+    const float* plane(int c) const { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
 };
+
+// Where a fine pixel centre falls between two coarse pixels along one axis:
+// the two coarse indices and the weight of the second.
+struct Tap {
+    int a, b;
+    float t;
+};
+
+std::vector<Tap> taps(int fine, int coarse) {
+    std::vector<Tap> out(static_cast<std::size_t>(fine));
+    for (int i = 0; i < fine; ++i) {
+        const double c = std::clamp((i + 0.5) / 2.0 - 0.5, 0.0, double(coarse - 1));
+        const int a = int(c);
+        out[std::size_t(i)] = {a, std::min(a + 1, coarse - 1), float(c - a)};
+    }
+    return out;
+}
+
+// Push: each coarse pixel the weight-normalised average of its (up to) 2x2
+// fine pixels; its weight their weights' sum, at most 1. The fine level is
+// level 0 (the caller's planes, weights clamped to [0, 1], values counted
+// only where the weight is > 0) or a coarse level.
+Level push(int fw, int fh, const float* fweight, std::span<const float* const> fplanes, bool level0,
+           const Exec& exec) {
+    Level c;
+    c.w = (fw + 1) / 2;
+    c.h = (fh + 1) / 2;
+    const int nc = int(fplanes.size());
+    const std::size_t cn = std::size_t(c.w) * std::size_t(c.h);
+    c.weight.assign(cn, 0.0f);
+    c.values.assign(std::size_t(nc) * cn, 0.0f);
+    parallel_for(exec, c.h, [&](long y0, long y1) {
+        // Per coarse pixel of the row: its four fine pixels' weights (0 where
+        // absent) and indices.
+        std::vector<float> w4(4 * std::size_t(c.w)), wsum(std::size_t(c.w));
+        std::vector<std::size_t> src(4 * std::size_t(c.w));
+        for (long yl = y0; yl < y1; ++yl) {
+            const int y = int(yl);
+            for (int x = 0; x < c.w; ++x) {
+                float sum = 0.0f;
+                for (int k = 0; k < 4; ++k) {
+                    const int fx = 2 * x + (k & 1), fy = 2 * y + (k >> 1);
+                    float w = 0.0f;
+                    std::size_t fi = 0;
+                    if (fx < fw && fy < fh) {
+                        fi = std::size_t(fy) * std::size_t(fw) + std::size_t(fx);
+                        w = fweight[fi];
+                        if (level0) w = w > 0.0f ? std::min(w, 1.0f) : 0.0f;
+                    }
+                    w4[4 * std::size_t(x) + std::size_t(k)] = w;
+                    src[4 * std::size_t(x) + std::size_t(k)] = fi;
+                    sum += w;
+                }
+                wsum[std::size_t(x)] = sum;
+                c.weight[std::size_t(y) * std::size_t(c.w) + std::size_t(x)] = std::min(1.0f, sum);
+            }
+            for (int k = 0; k < nc; ++k) {
+                const float* v = fplanes[std::size_t(k)];
+                float* out = c.plane(k) + std::size_t(y) * std::size_t(c.w);
+                for (int x = 0; x < c.w; ++x) {
+                    const float* w = &w4[4 * std::size_t(x)];
+                    const std::size_t* i = &src[4 * std::size_t(x)];
+                    float acc = 0.0f;
+                    // Unknown fine values may be anything (NaN): never multiplied in.
+                    for (int q = 0; q < 4; ++q) acc += w[q] > 0.0f ? w[q] * v[i[q]] : 0.0f;
+                    const float sum = wsum[std::size_t(x)];
+                    out[x] = sum > 0.0f ? acc / sum : 0.0f;
+                }
+            }
+        }
+    }, 8);
+    return c;
+}
+
+// Pull: every pixel of a fine level whose weight is below 1 blends its value
+// with the bilinear upsampling of the (filled) coarser level `c` by
+// (1 - weight). Level 0 (`unknown_only`) writes only its unknown pixels
+// (weight 0 or NaN), straight into the caller's planes: known pixels keep
+// their bits.
+void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<float* const> out, const Level& c,
+          const Exec& exec) {
+    const std::vector<Tap> tx = taps(fw, c.w), ty = taps(fh, c.h);
+    const int nc = int(out.size());
+    parallel_for(exec, fh, [&](long y0, long y1) {
+        std::vector<float> w(static_cast<std::size_t>(fw));
+        for (long yl = y0; yl < y1; ++yl) {
+            const Tap& vy = ty[std::size_t(yl)];
+            const std::size_t ra = std::size_t(vy.a) * std::size_t(c.w), rb = std::size_t(vy.b) * std::size_t(c.w);
+            const std::size_t row = std::size_t(yl) * std::size_t(fw);
+            bool any = false;
+            for (int x = 0; x < fw; ++x) {
+                const float fwt = fweight[row + std::size_t(x)];
+                const float wx = unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
+                w[std::size_t(x)] = wx;
+                any = any || wx < 1.0f;
+            }
+            if (!any) continue;
+            for (int k = 0; k < nc; ++k) {
+                const float* top = c.plane(k) + ra;
+                const float* bot = c.plane(k) + rb;
+                float* o = out[std::size_t(k)] + row;
+                for (int x = 0; x < fw; ++x) {
+                    const float wx = w[std::size_t(x)];
+                    if (wx >= 1.0f) continue;
+                    const Tap& vx = tx[std::size_t(x)];
+                    const float t = top[vx.a] + vx.t * (top[vx.b] - top[vx.a]);
+                    const float b = bot[vx.a] + vx.t * (bot[vx.b] - bot[vx.a]);
+                    const float up = t + vy.t * (b - t);
+                    o[x] = wx > 0.0f ? wx * o[x] + (1.0f - wx) * up : up;
+                }
+            }
+        }
+    }, 16);
+}
 
 // The fill on row-major planes of width x height (push_pull_fill's contract).
 // Rows of a level are independent in both passes, so they run in parallel
-// and the result is the same for any thread count.
+// and the result is the same for any thread count. Level 0 is read and
+// written in place: only its unknown pixels change.
 bool push_pull(std::span<float* const> planes, const float* weight, int width, int height, const Exec& exec) {
     const std::size_t n = std::size_t(width) * std::size_t(height);
     const int nc = int(planes.size());
@@ -34,92 +153,25 @@ bool push_pull(std::span<float* const> planes, const float* weight, int width, i
     if (!any) return false;
     if (!missing) return true;
 
-    std::vector<Level> levels(1);
-    Level& l0 = levels[0];
-    l0.w = width;
-    l0.h = height;
-    l0.weight.resize(n);
-    l0.values.assign(std::size_t(nc), std::vector<float>(n));
-    parallel_for(exec, height, [&](long y0, long y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(width); i < std::size_t(y1) * std::size_t(width); ++i) {
-            const float w = std::clamp(weight[i], 0.0f, 1.0f);
-            l0.weight[i] = w;
-            for (int c = 0; c < nc; ++c) l0.values[std::size_t(c)][i] = w > 0.0f ? planes[std::size_t(c)][i] : 0.0f;
-        }
-    }, 16);
     // Push: halve until 1x1.
+    std::vector<const float*> fine(planes.begin(), planes.end());
+    std::vector<Level> levels;
+    levels.push_back(push(width, height, weight, fine, true, exec));
     while (levels.back().w > 1 || levels.back().h > 1) {
         const Level& f = levels.back();
-        Level c;
-        c.w = (f.w + 1) / 2;
-        c.h = (f.h + 1) / 2;
-        const std::size_t cn = std::size_t(c.w) * std::size_t(c.h);
-        c.weight.assign(cn, 0.0f);
-        c.values.assign(std::size_t(nc), std::vector<float>(cn, 0.0f));
-        parallel_for(exec, c.h, [&](long y0, long y1) {
-            std::vector<double> vsum(planes.size());
-            for (long yl = y0; yl < y1; ++yl) {
-                const int y = int(yl);
-                for (int x = 0; x < c.w; ++x) {
-                    double wsum = 0.0;
-                    std::fill(vsum.begin(), vsum.end(), 0.0);
-                    for (int dy = 0; dy < 2; ++dy)
-                        for (int dx = 0; dx < 2; ++dx) {
-                            const int fx = 2 * x + dx, fy = 2 * y + dy;
-                            if (fx >= f.w || fy >= f.h) continue;
-                            const std::size_t fi = std::size_t(fy) * std::size_t(f.w) + std::size_t(fx);
-                            const double w = f.weight[fi];
-                            if (!(w > 0.0)) continue;
-                            wsum += w;
-                            for (int k = 0; k < nc; ++k) vsum[std::size_t(k)] += w * f.values[std::size_t(k)][fi];
-                        }
-                    const std::size_t ci = std::size_t(y) * std::size_t(c.w) + std::size_t(x);
-                    if (wsum > 0.0)
-                        for (int k = 0; k < nc; ++k) c.values[std::size_t(k)][ci] = float(vsum[std::size_t(k)] / wsum);
-                    c.weight[ci] = float(std::min(1.0, wsum));
-                }
-            }
-        }, 16);
+        for (int k = 0; k < nc; ++k) fine[std::size_t(k)] = f.plane(k);
+        Level c = push(f.w, f.h, f.weight.data(), fine, false, exec);
         levels.push_back(std::move(c));
     }
-    // Pull: from the top, blend each level with the upsampled level above.
+    // Pull: from the top, each level blended with the upsampled level above.
+    std::vector<float*> ptrs(static_cast<std::size_t>(nc));
     for (int li = int(levels.size()) - 2; li >= 0; --li) {
         Level& f = levels[std::size_t(li)];
-        const Level& c = levels[std::size_t(li) + 1];
-        parallel_for(exec, f.h, [&](long y0, long y1) {
-            for (long yl = y0; yl < y1; ++yl) {
-                const int y = int(yl);
-                // Fine pixel centre in coarse pixel coordinates.
-                const double cy = std::clamp((y + 0.5) / 2.0 - 0.5, 0.0, double(c.h - 1));
-                const int ya = int(cy), yb = std::min(ya + 1, c.h - 1);
-                const double ty = cy - ya;
-                for (int x = 0; x < f.w; ++x) {
-                    const std::size_t fi = std::size_t(y) * std::size_t(f.w) + std::size_t(x);
-                    const double w = f.weight[fi];
-                    if (w >= 1.0) continue;
-                    const double cx = std::clamp((x + 0.5) / 2.0 - 0.5, 0.0, double(c.w - 1));
-                    const int xa = int(cx), xb = std::min(xa + 1, c.w - 1);
-                    const double tx = cx - xa;
-                    for (int k = 0; k < nc; ++k) {
-                        const auto& v = c.values[std::size_t(k)];
-                        auto at = [&](int xx, int yy) { return double(v[std::size_t(yy) * std::size_t(c.w) + std::size_t(xx)]); };
-                        const double up = (1 - ty) * ((1 - tx) * at(xa, ya) + tx * at(xb, ya)) +
-                                          ty * ((1 - tx) * at(xa, yb) + tx * at(xb, yb));
-                        float& fv = f.values[std::size_t(k)][fi];
-                        fv = float(w * fv + (1.0 - w) * up);
-                    }
-                    f.weight[fi] = 1.0f;
-                }
-            }
-        }, 16);
+        for (int k = 0; k < nc; ++k) ptrs[std::size_t(k)] = f.plane(k);
+        pull(f.w, f.h, f.weight.data(), false, ptrs, levels[std::size_t(li) + 1], exec);
     }
-    // levels[0], not l0: push_back above may have moved the levels.
-    const Level& base = levels[0];
-    parallel_for(exec, height, [&](long y0, long y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(width); i < std::size_t(y1) * std::size_t(width); ++i)
-            if (!(weight[i] > 0.0f))
-                for (int c = 0; c < nc; ++c) planes[std::size_t(c)][i] = base.values[std::size_t(c)][i];
-    }, 16);
+    // Level 0: only the unknown pixels, from the first coarse level.
+    pull(width, height, weight, true, planes, levels[0], exec);
     return true;
 }
 

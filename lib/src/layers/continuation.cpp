@@ -90,30 +90,44 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
     return box;
 }
 
-std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
+BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
                                    int W, int H, const Exec& exec) {
-    const std::size_t n = front.size();
+    const std::size_t n = slice.size();
+    auto front = [&](std::size_t i) {  // the pixel's nearest slice, -1: no sample
+        return fg_slice[i] >= 0 && fg_slice[i] < slice[i] ? fg_slice[i] : slice[i];
+    };
     // Emptiness (no sample at all: a render's transparent sky) is the
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
-    std::vector<int> owner(n, -1), best_k(n, -1);
+    BackgroundOwners out;
+    out.owner.assign(n, -1);
+    out.distance.assign(n, std::numeric_limits<float>::infinity());
+    std::vector<int> best_k(n, -1);
     std::vector<float> best, dist;
-    std::vector<unsigned char> empty(n, 0);
+    std::vector<unsigned char> mask(n, 0);
     bool any_empty = false;
     for (std::size_t i = 0; i < n; ++i)
-        if (front[i] < 0) empty[i] = 1, any_empty = true;
-    if (any_empty) distance_transform(empty, W, H, best, exec);
+        if (slice[i] < 0) mask[i] = 1, any_empty = true;
+    if (any_empty) distance_transform(mask, W, H, best, exec);
     else best.assign(n, std::numeric_limits<float>::infinity());
     // Back to front: before slice k's distances join, `best` holds the
-    // nearest of the slices behind k, which is what k's pixels need.
-    for (int k = int(own.size()) - 1; k >= 0; --k) {
-        for (std::size_t i = 0; i < n; ++i)
-            if (front[i] == k) owner[i] = best_k[i];
-        distance_transform(own[std::size_t(k)], W, H, dist, exec);
-        for (std::size_t i = 0; i < n; ++i)
-            if (dist[i] <= best[i]) best[i] = dist[i], best_k[i] = k;  // ties: the nearer slice
+    // nearest of the slices behind k, which is what k's pixels need. The
+    // nearest slice's own distances would serve no pixel: not computed.
+    for (int k = nslices - 1; k >= 0; --k) {
+        parallel_for(exec, H, [&](long y0, long y1) {
+            for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
+                if (front(i) == k) out.owner[i] = best_k[i], out.distance[i] = best[i];
+                mask[i] = slice[i] == k || fg_slice[i] == k;
+            }
+        }, 16);
+        if (k == 0) break;
+        distance_transform(mask, W, H, dist, exec);
+        parallel_for(exec, H, [&](long y0, long y1) {
+            for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
+                if (dist[i] <= best[i]) best[i] = dist[i], best_k[i] = k;  // ties: the nearer slice
+        }, 16);
     }
-    return owner;
+    return out;
 }
 
 }  // namespace gdof::layers_detail

@@ -68,24 +68,26 @@ Result<DeepChannels> deep_channels(const DeepImage& deep) {
 }
 
 // First bad sample (in pixel order) as an error, else ok.
-Status validate_samples(const DeepImage& deep, const DeepChannels& ch) {
+Status validate_samples(const DeepImage& deep, const DeepChannels& ch, const Exec& exec) {
     const Roi win = deep.data_window();
     const float* z = deep.samples(ch.z);
     const float* a = ch.a >= 0 ? deep.samples(ch.a) : nullptr;
-    for (int y = win.y0; y < win.y1; ++y)
-        for (int x = win.x0; x < win.x1; ++x) {
-            const std::size_t p = deep.pixel_index(x, y);
-            const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
-            for (std::size_t k = s0; k < s0 + n; ++k) {
-                const bool bad_z = std::isnan(z[k]) || z[k] == -std::numeric_limits<float>::infinity();
-                const bool bad_a = a && !std::isfinite(a[k]);
-                if (bad_z || bad_a)
-                    return Status::error("deep pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") sample " +
-                                         std::to_string(k - s0) + ": " + (bad_z ? "depth Z" : "alpha A") + " is " +
-                                         std::to_string(bad_z ? z[k] : a[k]));
+    return parallel_run(exec, win.height(), [&](long r0, long r1) {
+        for (int y = win.y0 + int(r0); y < win.y0 + int(r1); ++y)
+            for (int x = win.x0; x < win.x1; ++x) {
+                const std::size_t p = deep.pixel_index(x, y);
+                const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
+                for (std::size_t k = s0; k < s0 + n; ++k) {
+                    const bool bad_z = std::isnan(z[k]) || z[k] == -std::numeric_limits<float>::infinity();
+                    const bool bad_a = a && !std::isfinite(a[k]);
+                    if (bad_z || bad_a)
+                        return Status::error("deep pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") sample " +
+                                             std::to_string(k - s0) + ": " + (bad_z ? "depth Z" : "alpha A") + " is " +
+                                             std::to_string(bad_z ? z[k] : a[k]));
+                }
             }
-        }
-    return Status::ok();
+        return Status::ok();
+    }, 16);
 }
 
 // Sample indices of pixel p sorted front to back (stable on ties).
@@ -180,60 +182,45 @@ struct LayerExtents {
     std::vector<double> znear, zfar;
 };
 
-LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLayers& sl) {
+LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLayers& sl, const Exec& exec) {
     const Roi win = deep.data_window();
+    const std::size_t nl = std::size_t(sl.count);
+    // Bands of rows in parallel, each with its own extents, merged after.
+    constexpr int kBand = 32;
+    const int nbands = (win.height() + kBand - 1) / kBand;
+    std::vector<LayerExtents> band(static_cast<std::size_t>(nbands));
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            LayerExtents& e = band[std::size_t(b)];
+            e.box.resize(nl);
+            e.znear.assign(nl, kInf);
+            e.zfar.assign(nl, -kInf);
+            for (int y = win.y0 + int(b) * kBand; y < std::min(win.y1, win.y0 + int(b + 1) * kBand); ++y)
+                for (int x = win.x0; x < win.x1; ++x) {
+                    const std::size_t p = deep.pixel_index(x, y);
+                    const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
+                    for (std::size_t k = s0; k < s0 + n; ++k) {
+                        const std::size_t l = std::size_t(sl.layer_of[k]);
+                        Roi& bx = e.box[l];
+                        bx = bx.empty() ? Roi{x, y, x + 1, y + 1}
+                                        : Roi{std::min(bx.x0, x), std::min(bx.y0, y), std::max(bx.x1, x + 1), std::max(bx.y1, y + 1)};
+                        e.znear[l] = std::min(e.znear[l], double(z[k]));
+                        e.zfar[l] = std::max(e.zfar[l], double(z[k]));
+                    }
+                }
+        }
+    });
     LayerExtents e;
-    e.box.resize(std::size_t(sl.count));
-    e.znear.assign(std::size_t(sl.count), kInf);
-    e.zfar.assign(std::size_t(sl.count), -kInf);
-    for (int y = win.y0; y < win.y1; ++y)
-        for (int x = win.x0; x < win.x1; ++x) {
-            const std::size_t p = deep.pixel_index(x, y);
-            const std::size_t s0 = deep.first_sample(p), n = deep.sample_count(p);
-            for (std::size_t k = s0; k < s0 + n; ++k) {
-                const std::size_t l = std::size_t(sl.layer_of[k]);
-                e.box[l] = unite(e.box[l], Roi{x, y, x + 1, y + 1});
-                e.znear[l] = std::min(e.znear[l], double(z[k]));
-                e.zfar[l] = std::max(e.zfar[l], double(z[k]));
-            }
+    e.box.resize(nl);
+    e.znear.assign(nl, kInf);
+    e.zfar.assign(nl, -kInf);
+    for (const LayerExtents& b : band)
+        for (std::size_t l = 0; l < nl; ++l) {
+            e.box[l] = unite(e.box[l], b.box[l]);
+            e.znear[l] = std::min(e.znear[l], b.znear[l]);
+            e.zfar[l] = std::max(e.zfar[l], b.zfar[l]);
         }
     return e;
-}
-
-// The layers before any sample is composited into them: named, over their
-// boxes, with the deep image's display window and metadata, zero colour and
-// NaN depth (and positions).
-std::vector<Layer> blank_layers(const DeepImage& deep, const LayerSplit& split, const SampleLayers& sl,
-                                const LayerExtents& ext, bool with_positions) {
-    std::vector<Layer> layers(static_cast<std::size_t>(sl.count));
-    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
-    if (with_positions) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
-    for (int l = 0; l < sl.count; ++l) {
-        const std::size_t li = std::size_t(l);
-        Layer& L = layers[li];
-        const bool empty = ext.box[li].empty();
-        L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : ext.znear[li];
-        L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : ext.zfar[li];
-        if (split.mode == LayerSplit::Mode::ById) {
-            L.name = sl.names[li];
-            L.slice_near = L.depth_near;
-            L.slice_far = L.depth_far;
-        } else {
-            L.slice_near = sl.slice_lo[li];
-            L.slice_far = sl.slice_hi[li];
-            L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)"
-                           : depth_range_name(L.depth_near, L.depth_far);
-        }
-        L.image = Image::with_channels(chan_names, ext.box[li]);
-        L.image.set_display_window(deep.display_window());
-        L.image.metadata = deep.metadata;
-        L.image.name = L.name;
-        L.image.view = deep.view;
-        std::fill_n(L.image.plane(4), L.image.npixels(), kNaN);
-        if (with_positions)
-            for (int c = 5; c < 8; ++c) std::fill_n(L.image.plane(c), L.image.npixels(), kNaN);
-    }
-    return layers;
 }
 
 // A deep image's colour, alpha and depth samples (alpha 1 without an A channel).
@@ -273,65 +260,202 @@ void store_over(Image& img, std::size_t off, const Over& o, double z) {
     img.plane(4)[off] = float(z);
 }
 
-// Composites every pixel's samples, front to back, into the layers they
-// belong to. Parallel over rows; false if cancelled.
-bool composite_samples(const DeepImage& deep, const DeepChannels& ch, const SampleLayers& sl, std::vector<Layer>& layers,
-                       const Exec& exec) {
-    const SamplePlanes s(deep, ch);
-    const float* sp[3] = {ch.p ? deep.samples((*ch.p)[0]) : nullptr, ch.p ? deep.samples((*ch.p)[1]) : nullptr,
-                          ch.p ? deep.samples((*ch.p)[2]) : nullptr};
-    return for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
-        thread_local std::vector<std::pair<int, Over>> acc;  // touched layers of the pixel
+// The layers of a deep image, made one at a time (LayerSource): every
+// sample's layer, the layers' boxes and names, and (with an extension)
+// where each pixel is hidden are prepared once; make(l) composites layer l's
+// samples of every pixel and extends the layer.
+class DeepLayers final : public LayerSource {
+public:
+    static Result<std::unique_ptr<DeepLayers>> create(const DeepImage& deep, const LayerSplit& split,
+                                                      std::span<const float> sample_radius, const ExtendOptions* extend,
+                                                      const Exec& exec);
+    int size() const override { return sl_.count; }
+    Roi frame() const override {  // the layers' boxes; extensions stay inside (hidden pixels have samples)
+        Roi f;
+        for (const Roi& b : ext_.box) f = unite(f, b);
+        return f;
+    }
+    Roi display_window() const override { return deep_.display_window(); }
+    Result<const Layer*> make(int l, Layer& storage, const Exec& exec) const override;
+
+private:
+    DeepLayers(const DeepImage& deep, const LayerSplit& split) : deep_(deep), split_(split) {}
+    Status plan(const ExtendOptions& extend, const Exec& exec);
+
+    const DeepImage& deep_;
+    LayerSplit split_;
+    DeepChannels ch_;
+    SampleLayers sl_;
+    LayerExtents ext_;
+    bool extend_on_ = false;
+    ExtendOptions extend_;
+    ExtensionPlan plan_;
+};
+
+Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, const LayerSplit& split,
+                                                       std::span<const float> sample_radius,
+                                                       const ExtendOptions* extend, const Exec& exec) {
+    auto chr = deep_channels(deep);
+    if (!chr) return chr.status();
+    std::unique_ptr<DeepLayers> D(new DeepLayers(deep, split));
+    D->ch_ = *chr;
+    if (Status st = validate_samples(deep, D->ch_, exec); !st) return st;
+    const std::size_t nsamples = deep.total_samples();
+    const float* z = deep.samples(D->ch_.z);
+    if (!sample_radius.empty() && sample_radius.size() != nsamples)
+        return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
+                             std::to_string(nsamples) + " samples");
+    Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
+                                  ? layers_by_id(deep, z, split.id_channel)
+                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius));
+    if (!sl) return sl.status();
+    D->sl_ = std::move(sl).value();
+    D->ext_ = layer_extents(deep, z, D->sl_, exec);
+    if (extend && D->sl_.count >= 2 && !deep.data_window().empty()) {
+        if (Status st = check_extend_options(*extend, deep.data_window()); !st) return st;
+        D->extend_on_ = true;
+        D->extend_ = *extend;
+        if (Status st = D->plan(*extend, exec); !st) return st;
+    } else if (extend) {
+        if (Status st = check_extend_options(*extend, deep.data_window()); !st) return st;
+    }
+    return D;
+}
+
+// Where each pixel is hidden: every layer's own coverage of the pixel (its
+// samples composited as make() does), accumulated front to back as
+// extend_layers_behind does over the layers' images.
+Status DeepLayers::plan(const ExtendOptions& extend, const Exec& exec) {
+    const Roi win = deep_.data_window();
+    plan_.frame = win;
+    if (sl_.count >= int(ExtensionPlan::kNeverHidden))
+        return Status::error("layer extension: " + std::to_string(sl_.count) + " layers (at most " +
+                             std::to_string(ExtensionPlan::kNeverHidden - 1) + ")");
+    for (int l = 0; l < sl_.count; ++l)
+        if (!ext_.box[std::size_t(l)].empty()) {
+            if (plan_.nearest < 0) plan_.nearest = l;
+            plan_.farthest = l;
+        }
+    plan_.hidden_from.assign(win.npixels(), ExtensionPlan::kNeverHidden);
+    const SamplePlanes s(deep_, ch_);
+    const float thr = extend.occluder_alpha;
+    const bool ok = for_each_sorted_pixel(deep_, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        thread_local std::vector<std::pair<int, Over>> acc;
         acc.clear();
         for (std::size_t k : order) {
-            const int l = sl.layer_of[k];
+            const int l = sl_.layer_of[k];
             auto it = std::find_if(acc.begin(), acc.end(), [l](const auto& e) { return e.first == l; });
             if (it == acc.end()) {
                 acc.emplace_back(l, Over{});
                 it = acc.end() - 1;
             }
-            std::array<double, 3> pv{};
-            if (ch.p) pv = {sp[0][k], sp[1][k], sp[2][k]};
-            it->second.add(s.r[k], s.g[k], s.b[k], s.alpha(k), s.z[k], ch.p ? &pv : nullptr);
+            it->second.add(s.r[k], s.g[k], s.b[k], s.alpha(k), s.z[k], nullptr);
         }
+        std::sort(acc.begin(), acc.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        float occ = 0.0f;
+        std::uint16_t& h = plan_.hidden_from[std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0)];
         for (const auto& [l, o] : acc) {
-            Image& img = layers[std::size_t(l)].image;
-            const std::size_t off = img.offset(x, y);
-            store_over(img, off, o, o.mean_z());
-            if (ch.p && o.wsum > 0)
-                for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = float(o.psum[std::size_t(c)] / o.wsum);
+            const float a = float(o.a);
+            const bool present = covers(float(o.r), float(o.g), float(o.b), a);
+            if (thr > 0.0f) {
+                occ = occ + (present ? std::clamp(a, 0.0f, 1.0f) : 0.0f) * (1.0f - occ);
+                if (occ >= thr) {
+                    h = std::uint16_t(l + 1);
+                    break;
+                }
+            } else if (present) {
+                h = std::uint16_t(l + 1);
+                break;
+            }
         }
     });
+    return ok ? Status::ok() : Status::cancelled();
+}
+
+Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
+    if (l < 0 || l >= size()) return Status::error("deep layers: no layer " + std::to_string(l));
+    const std::size_t li = std::size_t(l);
+    const bool with_positions = ch_.p.has_value();
+    L = Layer{};
+    const bool empty = ext_.box[li].empty();
+    L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : ext_.znear[li];
+    L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : ext_.zfar[li];
+    if (split_.mode == LayerSplit::Mode::ById) {
+        L.name = sl_.names[li];
+        L.slice_near = L.depth_near;
+        L.slice_far = L.depth_far;
+    } else {
+        L.slice_near = sl_.slice_lo[li];
+        L.slice_far = sl_.slice_hi[li];
+        L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)" : depth_range_name(L.depth_near, L.depth_far);
+    }
+    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
+    if (with_positions) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
+    const Roi box = ext_.box[li];
+    L.image = Image::with_channels(chan_names, box);
+    L.image.set_display_window(deep_.display_window());
+    L.image.metadata = deep_.metadata;
+    L.image.name = L.name;
+    L.image.view = deep_.view;
+    Image& img = L.image;
+    std::fill_n(img.plane(4), img.npixels(), kNaN);
+    if (with_positions)
+        for (int c = 5; c < 8; ++c) std::fill_n(img.plane(c), img.npixels(), kNaN);
+    const SamplePlanes s(deep_, ch_);
+    const float* sp[3] = {with_positions ? deep_.samples((*ch_.p)[0]) : nullptr,
+                          with_positions ? deep_.samples((*ch_.p)[1]) : nullptr,
+                          with_positions ? deep_.samples((*ch_.p)[2]) : nullptr};
+    const bool ok = parallel_for(exec, box.height(), [&](long r0, long r1) {
+        std::vector<std::size_t> order;
+        for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
+            for (int x = box.x0; x < box.x1; ++x) {
+                const std::size_t p = deep_.pixel_index(x, y);
+                const std::size_t s0 = deep_.first_sample(p), ns = deep_.sample_count(p);
+                bool mine = false;
+                for (std::size_t k = s0; k < s0 + ns && !mine; ++k) mine = sl_.layer_of[k] == l;
+                if (!mine) continue;
+                sorted_samples(deep_, s.z, p, order);
+                Over o;
+                for (std::size_t k : order) {
+                    if (sl_.layer_of[k] != l) continue;
+                    std::array<double, 3> pv{};
+                    if (with_positions) pv = {sp[0][k], sp[1][k], sp[2][k]};
+                    o.add(s.r[k], s.g[k], s.b[k], s.alpha(k), s.z[k], with_positions ? &pv : nullptr);
+                }
+                const std::size_t off = img.offset(x, y);
+                store_over(img, off, o, o.mean_z());
+                if (with_positions && o.wsum > 0)
+                    for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = float(o.psum[std::size_t(c)] / o.wsum);
+            }
+    });
+    if (!ok) return Status::cancelled();
+    if (extend_on_)
+        if (Status st = extend_layer(L, l, plan_, extend_, exec); !st) return st;
+    return &L;
 }
 
 }  // namespace
 
+Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
+                                                       std::span<const float> sample_radius,
+                                                       const ExtendOptions* extend, const Exec& exec) {
+    auto d = DeepLayers::create(deep, split, sample_radius, extend, exec);
+    if (!d) return d.status();
+    return std::unique_ptr<LayerSource>(std::move(d).value());
+}
+
 Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
                                             std::span<const float> sample_radius, const Exec& exec) {
-    auto chr = deep_channels(deep);
-    if (!chr) return chr.status();
-    const DeepChannels ch = *chr;
-    if (Status st = validate_samples(deep, ch); !st) return st;
-    const std::size_t nsamples = deep.total_samples();
-    const float* z = deep.samples(ch.z);
-    if (!sample_radius.empty() && sample_radius.size() != nsamples)
-        return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
-                             std::to_string(nsamples) + " samples");
-
-    Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
-                                  ? layers_by_id(deep, z, split.id_channel)
-                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius));
-    if (!sl) return sl.status();
-    std::vector<Layer> layers = blank_layers(deep, split, *sl, layer_extents(deep, z, *sl), ch.p.has_value());
-    if (!composite_samples(deep, ch, *sl, layers, exec)) return Status::cancelled();
-    return layers;
+    auto d = DeepLayers::create(deep, split, sample_radius, nullptr, exec);
+    if (!d) return d.status();
+    return make_all(**d, exec);
 }
 
 Result<Image> flatten_deep(const DeepImage& deep, const Exec& exec) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     const DeepChannels ch = *chr;
-    if (Status st = validate_samples(deep, ch); !st) return st;
+    if (Status st = validate_samples(deep, ch, exec); !st) return st;
     const Roi win = deep.data_window();
     Image out = Image::with_channels({"R", "G", "B", "A", "Z"}, win);
     out.set_display_window(deep.display_window());

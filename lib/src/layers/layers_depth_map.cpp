@@ -68,9 +68,73 @@ Status plate_samples(const Image& img, const SliceOptions& o, const float* r, co
     return Status::ok();
 }
 
-}  // namespace
+// The layers of a plate, made one at a time (LayerSource). Everything that
+// concerns all slices is prepared once: each pixel's slice (and its
+// foreground part's), the slices' boxes and depth ranges, the background
+// owner of every pixel (and its distance), and where each pixel is hidden.
+class PlateLayers final : public LayerSource {
+public:
+    static Result<std::unique_ptr<LayerSource>> create(const Image& img, const SliceOptions& options, const Exec& exec);
 
-Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOptions& options, const Exec& exec) {
+    int size() const override { return slices_.count(); }
+    Roi frame() const override { return frame_; }
+    Roi display_window() const override { return img_.display_window(); }
+    Result<const Layer*> make(int s, Layer& storage, const Exec& exec) const override;
+
+private:
+    explicit PlateLayers(const Image& img) : img_(img) {}
+
+    // What a slice holds of pixel i: whole (its own slice), its foreground
+    // part (a split mixed pixel whose foreground is in the slice), or nothing.
+    struct Part {
+        float rgb[3], alpha, z;
+    };
+    bool part_of(std::size_t i, int s, Part& p, bool continued = false) const;
+    // Layer s before its extension: its own pixels (and, with continued
+    // surfaces, those of nearer slices that continue its surface).
+    Status make_base(int s, Layer& L, const Exec& exec) const;
+    friend Result<std::vector<Layer>> continued_layers(const Image&, const SliceOptions&, const Exec&);
+
+    const Image& img_;
+    SliceOptions options_;  // spans and depth cleared: used only by create()
+    const float *r_ = nullptr, *g_ = nullptr, *b_ = nullptr, *a_ = nullptr;
+    std::optional<std::array<int, 3>> pos_;
+    PlateSamples ps_;
+    std::vector<MixedPixel> mixed_parts_;  // ps_.parts points here
+    DepthSlices slices_;
+    std::vector<int> slice_, fg_slice_;  // per pixel; -1: none
+    std::vector<Roi> box_;               // per slice: its own pixels
+    Roi frame_;                          // their union (extensions stay inside)
+    std::vector<double> znear_, zfar_;
+    std::vector<int> owner_;
+    std::vector<float> owner_distance_;
+    ExtensionPlan plan_;
+    ExtendOptions extend_;
+};
+
+bool PlateLayers::part_of(std::size_t i, int s, Part& p, bool continued) const {
+    const bool whole = slice_[i] == s || continued;
+    if (!whole && fg_slice_[i] != s) return false;
+    // A split pixel: its foreground part in the foreground's slice, its
+    // background part where the pixel is whole. Split in two slices only:
+    // within one it is simply whole.
+    const MixedPixel* m = fg_slice_[i] >= 0 ? ps_.mixed_at(i) : nullptr;
+    const float alpha = a_ ? a_[i] : 1.0f;
+    if (!whole) {
+        for (int c = 0; c < 3; ++c) p.rgb[c] = m->fg_share * m->fg_rgb[c];
+        p.alpha = m->fg_share * alpha;
+        p.z = m->fg_depth;
+    } else {
+        const float rgb[3] = {r_[i], g_[i], b_[i]};
+        for (int c = 0; c < 3; ++c) p.rgb[c] = m ? m->bg_rgb[c] : rgb[c];
+        p.alpha = alpha;
+        p.z = ps_.depth[i];
+    }
+    return true;
+}
+
+Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const SliceOptions& options,
+                                                         const Exec& exec) {
     const RgbaIndices ix = find_rgba(img);
     for (auto [c, name] : {std::pair{ix.r, "R"}, std::pair{ix.g, "G"}, std::pair{ix.b, "B"}})
         if (c < 0 || img.channel(c).type == PixelType::UInt)
@@ -84,24 +148,27 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
         return Status::error("depth-map layers: extend_px must be finite and >= 0, got " + std::to_string(options.extend_px));
     if (!(options.continuity > 1.0) || !(options.continuity < 2.0))
         return Status::error("depth-map layers: continuity must be in (1, 2), got " + std::to_string(options.continuity));
+    std::unique_ptr<PlateLayers> L(new PlateLayers(img));
     // With a prepared depth, positions come from the layers' depth and the
     // camera: a mixed pixel's position pass is as mixed as its filtered Z.
-    std::optional<std::array<int, 3>> pos;
     if (!options.depth) {
         auto pr = find_position_channels(img, options.source.position_channels);
         if (!pr) return pr.status();
-        pos = *pr;
+        L->pos_ = *pr;
     }
-
     const Roi win = img.data_window();
     const int W = win.width(), H = win.height();
     const std::size_t n = img.npixels();
-    const float* r = img.plane(ix.r);
-    const float* g = img.plane(ix.g);
-    const float* b = img.plane(ix.b);
-    const float* a = ix.a >= 0 ? img.plane(ix.a) : nullptr;
-    PlateSamples ps;
-    if (Status st = plate_samples(img, options, r, g, b, a, ps); !st) return st;
+    L->r_ = img.plane(ix.r);
+    L->g_ = img.plane(ix.g);
+    L->b_ = img.plane(ix.b);
+    L->a_ = ix.a >= 0 ? img.plane(ix.a) : nullptr;
+    PlateSamples& ps = L->ps_;
+    if (Status st = plate_samples(img, options, L->r_, L->g_, L->b_, L->a_, ps); !st) return st;
+    if (ps.parts) {  // keep our own copy: the prepared depth need not outlive the source
+        L->mixed_parts_ = *ps.parts;
+        ps.parts = &L->mixed_parts_;
+    }
     if (!options.radius.empty() && options.radius.size() != n)
         return Status::error("depth-map layers: " + std::to_string(options.radius.size()) + " blur radii for " +
                              std::to_string(n) + " pixels");
@@ -110,7 +177,7 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
         return Status::error("depth-map layers: " + std::to_string(options.fg_radius.size()) +
                              " foreground blur radii for " + std::to_string(nmixed) + " mixed pixels");
 
-    // 2. Slices over every sample.
+    // Slices over every sample.
     std::vector<float> sample_depths, sample_radii;
     sample_depths.reserve(n);
     const bool radii = !options.radius.empty();
@@ -125,115 +192,193 @@ Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOp
                                                                  : options.fg_radius[std::size_t(ps.mixed[i])]);
         }
     }
-    const DepthSlices slices = choose_slices(sample_depths, options.split, sample_radii);
-    const int ns = slices.count();
-    std::vector<int> slice(n, -1), fg_slice(n, -1);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!ps.present[i]) continue;
-        slice[i] = slices.slice_of(ps.depth[i]);
-        if (const MixedPixel* m = ps.mixed_at(i)) {
-            const int f = slices.slice_of(m->fg_depth);
-            if (f != slice[i]) fg_slice[i] = f;  // in one slice the pixel is simply whole
+    L->slices_ = choose_slices(sample_depths, options.split, sample_radii);
+    sample_depths = {};
+    sample_radii = {};
+    const int ns = L->slices_.count();
+    if (ns >= int(ExtensionPlan::kNeverHidden))
+        return Status::error("depth-map layers: " + std::to_string(ns) + " slices (at most " +
+                             std::to_string(ExtensionPlan::kNeverHidden - 1) + ")");
+    L->slice_.assign(n, -1);
+    L->fg_slice_.assign(n, -1);
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
+            if (!ps.present[i]) continue;
+            L->slice_[i] = L->slices_.slice_of(ps.depth[i]);
+            if (const MixedPixel* m = ps.mixed_at(i)) {
+                const int f = L->slices_.slice_of(m->fg_depth);
+                if (f != L->slice_[i]) L->fg_slice_[i] = f;  // in one slice the pixel is simply whole
+            }
         }
-    }
+    }, 16);
+
+    // Every slice's box and depth range, and where each pixel is hidden (the
+    // slices behind the first that covers it). Bands of rows in parallel,
+    // each with its own extents, merged after (min and max: any order).
+    ExtensionPlan& plan = L->plan_;
+    plan.frame = win;
+    plan.hidden_from.assign(n, ExtensionPlan::kNeverHidden);
+    constexpr int kBand = 32;
+    const int nbands = (H + kBand - 1) / kBand;
+    struct Extent {
+        Roi box;
+        double znear = kInf, zfar = -kInf;
+    };
+    std::vector<Extent> band_extent(std::size_t(nbands) * std::size_t(ns));
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            Extent* e = band_extent.data() + std::size_t(b) * std::size_t(ns);
+            for (int y = int(b) * kBand; y < std::min(H, int(b + 1) * kBand); ++y)
+                for (int x = 0; x < W; ++x) {
+                    const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                    for (int k = 0; k < 2; ++k) {
+                        const int s = k == 0 ? L->slice_[i] : L->fg_slice_[i];
+                        if (s < 0) continue;
+                        Part p;
+                        L->part_of(i, s, p);
+                        Extent& x_e = e[s];
+                        Roi& bx = x_e.box;
+                        bx = bx.empty() ? Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1}
+                                        : Roi{std::min(bx.x0, win.x0 + x), std::min(bx.y0, win.y0 + y),
+                                              std::max(bx.x1, win.x0 + x + 1), std::max(bx.y1, win.y0 + y + 1)};
+                        x_e.znear = std::min(x_e.znear, double(p.z));
+                        x_e.zfar = std::max(x_e.zfar, double(p.z));
+                        if (covers(p.rgb[0], p.rgb[1], p.rgb[2], p.alpha))
+                            plan.hidden_from[i] = std::min(plan.hidden_from[i], std::uint16_t(s + 1));
+                    }
+                }
+        }
+    });
+    L->box_.assign(std::size_t(ns), Roi{});
+    L->znear_.assign(std::size_t(ns), kInf);
+    L->zfar_.assign(std::size_t(ns), -kInf);
+    for (int b = 0; b < nbands; ++b)
+        for (int s = 0; s < ns; ++s) {
+            const Extent& e = band_extent[std::size_t(b) * std::size_t(ns) + std::size_t(s)];
+            if (e.box.empty()) continue;
+            L->box_[std::size_t(s)] = unite(L->box_[std::size_t(s)], e.box);
+            L->znear_[std::size_t(s)] = std::min(L->znear_[std::size_t(s)], e.znear);
+            L->zfar_[std::size_t(s)] = std::max(L->zfar_[std::size_t(s)], e.zfar);
+        }
+    for (int s = 0; s < ns; ++s)
+        if (!L->box_[std::size_t(s)].empty()) {
+            if (plan.nearest < 0) plan.nearest = s;
+            plan.farthest = s;
+            L->frame_ = unite(L->frame_, L->box_[std::size_t(s)]);
+        }
 
     // Which slice continues or extends behind each pixel (the background
     // seen nearest to it).
-    std::vector<int> front(n, -1);
-    std::vector<std::vector<unsigned char>> owns(static_cast<std::size_t>(ns), std::vector<unsigned char>(n, 0));
-    for (std::size_t i = 0; i < n; ++i) {
-        if (slice[i] < 0) continue;
-        owns[std::size_t(slice[i])][i] = 1;
-        front[i] = slice[i];
-        if (fg_slice[i] >= 0) owns[std::size_t(fg_slice[i])][i] = 1, front[i] = std::min(front[i], fg_slice[i]);
-    }
-    const std::vector<int> owner = background_owners(front, owns, W, H, exec);
-    owns.clear();
+    BackgroundOwners bo = background_owners(L->slice_, L->fg_slice_, ns, W, H, exec);
+    L->owner_ = std::move(bo.owner);
+    L->owner_distance_ = std::move(bo.distance);
 
-    // 3. Per slice: own samples, continued pixels of nearer slices.
-    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
-    if (pos) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
-    const float* pp[3] = {pos ? img.plane((*pos)[0]) : nullptr, pos ? img.plane((*pos)[1]) : nullptr,
-                          pos ? img.plane((*pos)[2]) : nullptr};
-    const int reach = options.continue_surfaces ? int(std::ceil(options.extend_px)) : 0;
-    std::vector<Layer> layers(static_cast<std::size_t>(ns));
-    Status st = parallel_run(exec, ns, [&](long s0, long s1) {
-        std::vector<unsigned char> cont;
-        for (long sl = s0; sl < s1; ++sl) {
-            const int s = int(sl);
-            Layer& L = layers[std::size_t(s)];
-            // Own samples and their range.
-            Roi own;
-            double znear = kInf, zfar = -kInf;
-            for (int y = 0; y < H; ++y)
-                for (int x = 0; x < W; ++x) {
-                    const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-                    double z;
-                    if (slice[i] == s) z = ps.depth[i];
-                    else if (fg_slice[i] == s) z = ps.mixed_at(i)->fg_depth;
-                    else continue;
-                    own = unite(own, Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1});
-                    znear = std::min(znear, z);
-                    zfar = std::max(zfar, z);
-                }
-            const bool empty = own.empty();
-            L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : znear;
-            L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : zfar;
-            L.slice_near = slices.lo[std::size_t(s)];
-            L.slice_far = slices.hi[std::size_t(s)];
-            L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)"
-                           : depth_range_name(L.depth_near, L.depth_far);
-            Roi box = own;
-            if (!empty && reach > 0) box = unite(box, continue_surface(ps.depth, ps.present, slice, owner, s, W, H, win,
-                                                                       options.continuity, reach, cont));
-            else cont.clear();
-
-            L.image = Image::with_channels(chan_names, box);
-            L.image.set_display_window(img.display_window());
-            L.image.metadata = img.metadata;
-            L.image.name = L.name;
-            L.image.view = img.view;
-            for (int y = box.y0; y < box.y1; ++y)
-                for (int x = box.x0; x < box.x1; ++x) {
-                    const std::size_t o = L.image.offset(x, y);
-                    const std::size_t i = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
-                    const bool whole = slice[i] == s || (!cont.empty() && cont[i]);
-                    const bool fg = fg_slice[i] == s;
-                    if (!whole && !fg) {
-                        for (int c = 4; c < L.image.nchannels(); ++c) L.image.plane(c)[o] = kNaN;
-                        continue;
-                    }
-                    // A split pixel: its foreground part in the foreground's
-                    // slice, its background part where the pixel is whole.
-                    // Split in two slices only: within one it is simply whole.
-                    const MixedPixel* m = fg_slice[i] >= 0 ? ps.mixed_at(i) : nullptr;
-                    const float alpha = a ? a[i] : 1.0f;
-                    if (!whole) {
-                        for (int c = 0; c < 3; ++c) L.image.plane(c)[o] = m->fg_share * m->fg_rgb[c];
-                        L.image.plane(3)[o] = m->fg_share * alpha;
-                        L.image.plane(4)[o] = m->fg_depth;
-                    } else {
-                        const float rgb[3] = {r[i], g[i], b[i]};
-                        for (int c = 0; c < 3; ++c) L.image.plane(c)[o] = m ? m->bg_rgb[c] : rgb[c];
-                        L.image.plane(3)[o] = alpha;
-                        L.image.plane(4)[o] = ps.depth[i];
-                    }
-                    if (pos)
-                        for (int c = 0; c < 3; ++c) L.image.plane(5 + c)[o] = pp[c][i];
-                }
-        }
-        return Status::ok();
-    });
-    if (!st) return st;
-    // 4. Plates: the background is everywhere, so the farthest slice fills every
+    // Plates: the background is everywhere, so the farthest slice fills every
     // hidden pixel; nearer slices reach extend_px behind their neighbours.
-    ExtendOptions ext;
-    ext.extend_px = options.extend_px;
-    ext.farthest_fills_frame = true;
-    ext.occluder_alpha = 0.0f;
-    ext.owner = owner;
-    if (Status es = extend_layers_behind(layers, win, ext, exec); !es) return es;
+    L->options_ = options;
+    L->options_.radius = {};
+    L->options_.fg_radius = {};
+    L->options_.depth = nullptr;
+    L->extend_.extend_px = options.extend_px;
+    L->extend_.farthest_fills_frame = true;
+    L->extend_.occluder_alpha = 0.0f;
+    L->extend_.owner = L->owner_;
+    L->extend_.owner_distance = L->owner_distance_;
+    return std::unique_ptr<LayerSource>(std::move(L));
+}
+
+Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
+    if (s < 0 || s >= size()) return Status::error("depth-map layers: no layer " + std::to_string(s));
+    const Roi win = img_.data_window();
+    const int W = win.width(), H = win.height();
+    const Roi& own = box_[std::size_t(s)];
+    const bool empty = own.empty();
+    L = Layer{};
+    L.depth_near = empty ? std::numeric_limits<double>::quiet_NaN() : znear_[std::size_t(s)];
+    L.depth_far = empty ? std::numeric_limits<double>::quiet_NaN() : zfar_[std::size_t(s)];
+    L.slice_near = slices_.lo[std::size_t(s)];
+    L.slice_far = slices_.hi[std::size_t(s)];
+    L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)" : depth_range_name(L.depth_near, L.depth_far);
+    Roi box = own;
+    std::vector<unsigned char> cont;
+    const int reach = options_.continue_surfaces ? int(std::ceil(options_.extend_px)) : 0;
+    if (!empty && reach > 0)
+        box = unite(box, continue_surface(ps_.depth, ps_.present, slice_, owner_, s, W, H, win, options_.continuity, reach, cont));
+    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
+    if (pos_) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
+    L.image = Image::with_channels(chan_names, box);
+    L.image.set_display_window(img_.display_window());
+    L.image.metadata = img_.metadata;
+    L.image.name = L.name;
+    L.image.view = img_.view;
+    const float* pp[3] = {pos_ ? img_.plane((*pos_)[0]) : nullptr, pos_ ? img_.plane((*pos_)[1]) : nullptr,
+                          pos_ ? img_.plane((*pos_)[2]) : nullptr};
+    Image& out = L.image;
+    const int nch = out.nchannels();
+    parallel_for(exec, box.height(), [&](long r0, long r1) {
+        for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
+            for (int x = box.x0; x < box.x1; ++x) {
+                const std::size_t o = out.offset(x, y);
+                const std::size_t i = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
+                Part p;
+                if (!part_of(i, s, p, !cont.empty() && cont[i])) {
+                    for (int c = 4; c < nch; ++c) out.plane(c)[o] = kNaN;
+                    continue;
+                }
+                for (int c = 0; c < 3; ++c) out.plane(c)[o] = p.rgb[c];
+                out.plane(3)[o] = p.alpha;
+                out.plane(4)[o] = p.z;
+                if (pos_)
+                    for (int c = 0; c < 3; ++c) out.plane(5 + c)[o] = pp[c][i];
+            }
+    }, 8);
+    return Status::ok();
+}
+
+Result<const Layer*> PlateLayers::make(int s, Layer& L, const Exec& exec) const {
+    if (Status st = make_base(s, L, exec); !st) return st;
+    if (Status st = extend_layer(L, s, plan_, extend_, exec); !st) return st;
+    return &L;
+}
+
+// The list with continued surfaces (SliceOptions::continue_surfaces): a
+// slice's own pixels then include the continued ones of nearer slices,
+// which its neighbours' hiding depends on, so every slice is made first and
+// all are extended together (with their own reach: a continued slice's
+// coverage is more than the pixels its owners were chosen by).
+Result<std::vector<Layer>> continued_layers(const Image& img, const SliceOptions& options, const Exec& exec) {
+    auto src = PlateLayers::create(img, options, exec);
+    if (!src) return src.status();
+    const auto& P = static_cast<const PlateLayers&>(**src);
+    std::vector<Layer> layers(static_cast<std::size_t>(P.size()));
+    for (int s = 0; s < P.size(); ++s) {
+        if (exec.is_cancelled()) return Status::cancelled();
+        if (Status st = P.make_base(s, layers[std::size_t(s)], exec); !st) return st;
+    }
+    ExtendOptions ext = P.extend_;
+    ext.owner_distance = {};
+    if (Status st = extend_layers_behind(layers, img.data_window(), ext, exec); !st) return st;
     return layers;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& img, const SliceOptions& options,
+                                                            const Exec& exec) {
+    if (!options.continue_surfaces) return PlateLayers::create(img, options, exec);
+    // With continued surfaces a slice's own pixels include the continued
+    // ones of nearer slices, which its neighbours' hiding depends on: the
+    // layers are all made first and served.
+    auto layers = continued_layers(img, options, exec);
+    if (!layers) return layers.status();
+    return source_of(std::move(layers).value());
+}
+
+Result<std::vector<Layer>> layers_from_depth_map(const Image& img, const SliceOptions& options, const Exec& exec) {
+    if (options.continue_surfaces) return continued_layers(img, options, exec);
+    auto src = PlateLayers::create(img, options, exec);
+    if (!src) return src.status();
+    return make_all(**src, exec);
 }
 
 }  // namespace gdof

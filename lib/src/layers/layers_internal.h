@@ -2,6 +2,7 @@
 // and small helpers. Not installed.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <string>
@@ -54,10 +55,41 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
                      const Roi& win, double continuity, int reach, std::vector<unsigned char>& cont);
 
 // Which slice continues or extends behind each pixel: among the slices behind
-// the pixel's nearest (front[i], -1: not present), the one whose own pixels
-// (own[k]: the pixels where slice k has a sample) are nearest; -1 where none.
-std::vector<int> background_owners(const std::vector<int>& front, const std::vector<std::vector<unsigned char>>& own,
+// the pixel's nearest (the nearer of slice[i] and fg_slice[i]; slice -1: no
+// sample), the one whose own pixels (where slice or fg_slice is k) are
+// nearest, -1 where emptiness (no sample) is nearer or nothing is behind;
+// and the distance to it (+inf where none).
+struct BackgroundOwners {
+    std::vector<int> owner;
+    std::vector<float> distance;
+};
+BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
                                    int width, int height, const Exec& exec = {});
+
+// A layer pixel's own coverage: alpha > 0 or any colour != 0.
+inline bool covers(float r, float g, float b, float a) { return a > 0.0f || r != 0.0f || g != 0.0f || b != 0.0f; }
+
+// What extending one layer needs to know of the others (extend_layer):
+// where each pixel is hidden by the nearer layers' own coverage. Layers
+// s >= hidden_from[i] are hidden at frame pixel i (ExtendOptions::
+// occluder_alpha); the nearer layers' coverage only grows with s, so one
+// index per pixel says it for every layer.
+struct ExtensionPlan {
+    static constexpr std::uint16_t kNeverHidden = 0xffff;
+    Roi frame;
+    int nearest = -1, farthest = -1;  // non-empty layers
+    std::vector<std::uint16_t> hidden_from;  // per frame pixel, row-major
+};
+// The plan of a list of layers (their own coverage, before any extension).
+Result<ExtensionPlan> plan_extension(const std::vector<Layer>& front_to_back, const Roi& frame,
+                                     const ExtendOptions& options, const Exec& exec);
+// Layer s extended behind the nearer ones (extend_layers_behind, for one layer).
+Status extend_layer(Layer& layer, int s, const ExtensionPlan& plan, const ExtendOptions& options, const Exec& exec);
+Status check_extendable(const Layer& layer);
+Status check_extend_options(const ExtendOptions& options, const Roi& frame);
+
+// Every layer of a source, made in order (the list builders).
+Result<std::vector<Layer>> make_all(const LayerSource& source, const Exec& exec);
 
 // "depth 2.1-3.4"
 std::string depth_range_name(double near, double far);

@@ -20,7 +20,8 @@
 
 namespace gdof::plate_detail {
 
-std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity) {
+std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity,
+                                            const Exec& exec) {
     std::vector<unsigned char> cand(depth.size(), 0);
     // 1 / depth at (x, y); NaN outside the image or without a finite depth.
     auto inv = [&](int x, int y) {
@@ -29,7 +30,8 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
         return std::isfinite(q) ? 1.0 / double(q) : std::numeric_limits<double>::quiet_NaN();
     };
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-    for (int y = 0; y < H; ++y)
+    parallel_for(exec, H, [&](long r0, long r1) {
+    for (int y = int(r0); y < int(r1); ++y)
         for (int x = 0; x < W; ++x) {
             const double d = inv(x, y);
             if (std::isnan(d)) continue;
@@ -52,6 +54,7 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
                 }
             }
         }
+    }, 16);
     return cand;
 }
 

@@ -50,15 +50,19 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     out.depth.resize(n);
     out.stats.pixels = n;
     const float* raw = plate.plane(depth_channel);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            double z = decode_depth(raw[i], *dec);
-            if (dec->range && std::isfinite(z))
-                z /= length(camera.depth_line(win.x0 + x + 0.5, win.y0 + y + 0.5).per_depth);
-            out.depth[i] = float(z);
-            if (std::isnan(z)) ++out.stats.holes;
-        }
+    std::vector<std::size_t> row_holes(std::size_t(H), 0);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                double z = decode_depth(raw[i], *dec);
+                if (dec->range && std::isfinite(z))
+                    z /= length(camera.depth_line(win.x0 + x + 0.5, win.y0 + y + 0.5).per_depth);
+                out.depth[i] = float(z);
+                if (std::isnan(z)) ++row_holes[std::size_t(y)];
+            }
+    }, 16);
+    for (std::size_t h : row_holes) out.stats.holes += h;
     if (n == 0) return out;
     if (out.stats.holes == n)
         return Status::error("plate depth: channel '" + plate.channel(depth_channel).name +
@@ -69,7 +73,7 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
 
     // Silhouette pixels between two surfaces are found first: they are small
     // islands too, but not speckles.
-    const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity);
+    const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity, exec);
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
         out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed);

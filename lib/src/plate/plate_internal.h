@@ -24,7 +24,8 @@ Guide make_guide(const Image& plate);
 // much flatter than the jump (a silhouette, not a steep ramp): the
 // candidates for mixed silhouette pixels (1), which speckle removal leaves
 // alone.
-std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int width, int height, double continuity);
+std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int width, int height, double continuity,
+                                            const Exec& exec = {});
 
 // Islands of at most `max_px` pixels that no neighbour continues become NaN
 // (pixels with keep[i] != 0 never); returns how many pixels.

@@ -117,7 +117,9 @@ TEST(bokeh, BlurredForegroundGetsASemiTransparentRim) {
             // over: fg coverage c of red, the sharp background through 1 - c.
             EXPECT_NEAR(out->at(0, x, y), c, 0.03) << x << "," << y;
             EXPECT_NEAR(out->at(1, x, y), (1 - c) * texture(x, y, 1), 0.03) << x << "," << y;
-            if (d > a + R + 1) ASSERT_EQ(out->at(1, x, y), texture(x, y, 1)) << x << "," << y;
+            if (d > a + R + 1) {
+                ASSERT_EQ(out->at(1, x, y), texture(x, y, 1)) << x << "," << y;
+            }
         }
 }
 

@@ -139,3 +139,21 @@ TEST(defocus_roi, SubRegionSkipsLayersThatCannotReachIt) {
     for (int y = 100; y < 150; ++y)
         for (int x = 150; x < 200; ++x) ASSERT_EQ(r->at(2, x, y), 1.0f);
 }
+
+// The whole result is made one layer at a time (each made, diffused and
+// dropped); a sub-region makes every layer first. Asked for the whole
+// result's window, the sub-region path must give the same bits, for a layer
+// that reaches beyond another's window (the result is cropped at the end).
+TEST(defocus_roi, StreamedWholeResultEqualsTheRegionPathOverItsWindow) {
+    auto layers = scene();
+    layers.push_back(make_layer(Roi{150, 100, 200, 150}, kDisplay, [](int x, int y) {
+        return Rgba{0.3f * texture(x, y, 0), 0.2f, 0.1f, 0.5f};
+    }, 20.0, "far patch"));
+    layers[1].image = Image(layers[1].image.channels(), Roi{}, kDisplay);  // an empty layer
+    for (const BlurField& field : {varying_field(9.0), constant_field(kDisplay, 4.0)}) {
+        const Image whole = render(layers, field, DiffusionSolver::Auto);
+        const Image region = render(layers, field, DiffusionSolver::Auto, 0, whole.data_window());
+        ASSERT_EQ(whole.data_window(), region.data_window());
+        EXPECT_TRUE(bit_identical(whole, region));
+    }
+}

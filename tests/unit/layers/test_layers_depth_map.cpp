@@ -284,3 +284,65 @@ TEST(layers_depth_map, IndependentOfThreadCount) {
             ASSERT_EQ(std::memcmp(x.plane(c), y.plane(c), x.npixels() * sizeof(float)), 0);
     }
 }
+
+// Continued surfaces (off by default): a floor receding upwards is cut into
+// two slices; the far slice holds the near slice's floor pixels next to the
+// cut, with their own colour and depth, up to extend_px away; a pole
+// standing on the near floor (one depth, so it does not come nearer) is not
+// continued behind itself. The source serves the same layers as the list.
+TEST(layers_from_depth_map, ContinuedSurfacesCarryTheNearerFloorNotThePole) {
+    const Roi win{0, 0, 40, 60};
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, win);
+    auto floor_z = [](int y) { return float(2.0 + 0.1 * (59 - y)); };  // 2 at the bottom row, 7.9 at the top
+    auto pole = [](int x, int y) { return x >= 18 && x < 22 && y >= 53; };
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 40; ++x) {
+            const bool p = pole(x, y);
+            img.at(0, x, y) = p ? 0.9f : 0.01f * float(x);
+            img.at(1, x, y) = p ? 0.1f : 0.01f * float(y);
+            img.at(2, x, y) = 0.5f;
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = p ? 2.3f : floor_z(y);
+        }
+    SliceOptions o;
+    o.split.mode = LayerSplit::Mode::Count;
+    o.split.count = 2;
+    o.extend_px = 6.0;
+    o.continue_surfaces = true;
+    auto layers = layers_from_depth_map(img, o);
+    ASSERT_TRUE(layers) << layers.message();
+    ASSERT_EQ(layers->size(), 2u);
+    const Image& near = (*layers)[0].image;
+    const Image& far = (*layers)[1].image;
+    // The cut: the first row (from the top) that is in the near slice.
+    int cut = -1;
+    for (int y = 0; y < 60 && cut < 0; ++y)
+        if (near.data_window().contains(2, y) && near.at(3, 2, y) > 0.0f) cut = y;
+    ASSERT_GT(cut, 0);
+    ASSERT_LT(cut, 53);  // above the pole
+    for (int d = 0; d < 4; ++d) {  // continued rows below the cut: the floor's own pixel
+        const int y = cut + d;
+        ASSERT_TRUE(far.data_window().contains(2, y));
+        EXPECT_EQ(far.at(0, 2, y), img.at(0, 2, y)) << y;
+        EXPECT_EQ(far.at(1, 2, y), img.at(1, 2, y)) << y;
+        EXPECT_EQ(far.at(4, 2, y), img.at(4, 2, y)) << y;
+    }
+    // No pole in the far slice: nothing of its colour anywhere there.
+    for (int y = far.data_window().y0; y < far.data_window().y1; ++y)
+        for (int x = far.data_window().x0; x < far.data_window().x1; ++x)
+            if (pole(x, y)) EXPECT_NE(far.at(0, x, y), 0.9f) << x << "," << y;
+    // The source gives the same layers.
+    auto src = depth_map_layer_source(img, o);
+    ASSERT_TRUE(src) << src.message();
+    ASSERT_EQ((*src)->size(), 2);
+    for (int i = 0; i < 2; ++i) {
+        Layer storage;
+        auto made = (*src)->make(i, storage);
+        ASSERT_TRUE(made);
+        const Image& a = (*made)->image;
+        const Image& b = (*layers)[std::size_t(i)].image;
+        ASSERT_EQ(a.data_window(), b.data_window());
+        for (int c = 0; c < 4; ++c)
+            for (std::size_t k = 0; k < a.npixels(); ++k) ASSERT_EQ(a.plane(c)[k], b.plane(c)[k]);
+    }
+}

@@ -102,5 +102,5 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     EXPECT_EQ(bg.data_window().x1, 14);  // pixels 10..13 are within 4 px of x = 9
     EXPECT_EQ(bg.at(3, 13, 4), 1.0f);
     EXPECT_NEAR(bg.at(0, 13, 4), 0.5f, 1e-6);
-    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendOptions{-1.0, false, 0.0f, {}}));
+    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendOptions{-1.0, false, 0.0f, {}, false, {}}));
 }
