@@ -51,9 +51,7 @@ ImageSet diffuse_view(Frame& f, const ImageSet& images, const std::string& where
     Result<ImageSet> result = ImageSet{};
     {
         StageTimer timer(s.stats, flag.substr(2));
-        s.progress.begin(flag.substr(2));
         result = defocus(images, field, camera, options, &stats, s.exec);
-        s.progress.end();
     }
     check_interrupted();
     if (!result) runtime_error(flag + ": " + where + ": " + message_naming_flag(result.status()));
@@ -74,12 +72,15 @@ void do_defocus(Frame& f, DefocusFilter filter) {
     // A stereo / multi-view file: every view, one output part each (--view
     // picks one).
     const std::vector<std::string> views = part_views(top.images);
+    f.session->progress.begin(flag.substr(2));
     if (views.size() <= 1) {
         top.images = diffuse_view(f, top.images, where);
         return;
     }
     ImageSet out;
-    for (const std::string& v : views) {
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        const std::string& v = views[i];
+        f.session->progress.part(int(i), int(views.size()));
         auto sub = select_view(top.images, v);
         if (!sub) runtime_error(flag + ": " + where + ": " + sub.message());
         ImageSet r = diffuse_view(f, *sub, where + " view '" + v + "'");
@@ -124,13 +125,13 @@ std::vector<Command> diffuse_commands() {
     t.push_back({.names = {"--diffuse"}, .kind = Kind::Action, .group = D,
                  .help = "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
                          "(default: the camera's thin lens) and composited",
-                 .stack = StackUse::NeedsImage,
+                 .stack = StackUse::NeedsImage, .progress_stage = true,
                  .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Diffusion); }});
     t.push_back({.names = {"--bokeh"}, .kind = Kind::Action, .group = D,
                  .help = "defocus the top image as --diffuse does (same layers, blur field, extrapolation, "
                          "compositing), each layer spread over the --aperture shape (default disc): bokeh that "
                          "respects visibility",
-                 .stack = StackUse::NeedsImage,
+                 .stack = StackUse::NeedsImage, .progress_stage = true,
                  .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Bokeh); }});
     t.push_back({.names = {"--solver"}, .args = "NAME", .kind = Kind::Modifier, .group = D,
                  .help = "diffusion solver: auto (default: per layer, explicit up to about 15 px of blur, else adi), adi "
