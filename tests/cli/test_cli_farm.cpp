@@ -103,7 +103,9 @@ TEST(cli_farm, ProgressLinesAtMostOneASecondAndMonotone) {
     EXPECT_LE(double(lines.size()), seconds + 2.0) << seconds << " s:\n" << r.output;
     for (std::size_t i = 0; i < lines.size(); ++i) {
         EXPECT_EQ(lines[i].frame, -1);  // no sequence: no frame field
-        if (i > 0) EXPECT_GE(lines[i].percent, lines[i - 1].percent) << r.output;
+        if (i > 0) {
+            EXPECT_GE(lines[i].percent, lines[i - 1].percent) << r.output;
+        }
     }
     EXPECT_EQ(lines.back().stage, "done");
     EXPECT_EQ(lines.back().percent, 100);

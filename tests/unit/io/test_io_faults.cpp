@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 
@@ -73,8 +74,12 @@ TEST(io_faults, FullDiskKeepsTheOldFileAndSaysNoSpace) {
     // A PNG through OpenImageIO, likewise.
     const std::string png = dir.file("disk/out.png");
     Image big = Image::with_channels({"R", "G", "B"}, {0, 0, 1024, 1024});
+    std::uint32_t x = 1;  // an LCG's bytes: 3 MB that PNG cannot compress
     for (int c = 0; c < 3; ++c)
-        for (std::size_t i = 0; i < big.npixels(); ++i) big.plane(c)[i] = float((i * 7919 + std::size_t(c)) % 251) / 251.f;
+        for (std::size_t i = 0; i < big.npixels(); ++i) {
+            x = x * 1103515245u + 12345u;
+            big.plane(c)[i] = float((x >> 16) & 255u) / 255.f;
+        }
     st = io::write_flat(png, big);
     ASSERT_FALSE(st);
     EXPECT_TRUE(has(st.message(), "out.png")) << st.message();
@@ -109,10 +114,14 @@ TEST(io_faults, UnwritableFolder) {
     const std::string out = dir.file("ro/out.exr");
     // Root writes through permission bits: act as nobody meanwhile.
     const bool root = ::geteuid() == 0;
-    if (root) ASSERT_EQ(::seteuid(kNobody), 0);
+    if (root) {
+        ASSERT_EQ(::seteuid(kNobody), 0);
+    }
     const Status checked = io::check_output_path(out);
     const Status st = io::write_image(out, noise(8, 8));
-    if (root) ASSERT_EQ(::seteuid(0), 0);
+    if (root) {
+        ASSERT_EQ(::seteuid(0), 0);
+    }
     for (const Status& s : {checked, st}) {
         ASSERT_FALSE(s);
         EXPECT_TRUE(has(s.message(), "'" + out + "'")) << s.message();

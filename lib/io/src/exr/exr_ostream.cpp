@@ -1,5 +1,5 @@
 // CheckedOStream (exr_ostream.h): writes buffered in 1 MiB blocks, each block
-// written with pwrite at its offset, errors kept until finish().
+// written at its offset (pwrite_all), errors kept until finish().
 #include "exr/exr_ostream.h"
 
 #include <fcntl.h>
@@ -36,16 +36,7 @@ void CheckedOStream::fail(const std::string& what) {
 
 void CheckedOStream::flush() {
     if (!error_.empty()) throw std::runtime_error(error_);
-    std::size_t done = 0;
-    while (done < buffer_.size()) {
-        const ssize_t n = ::pwrite(fd_, buffer_.data() + done, buffer_.size() - done, off_t(buffer_start_ + done));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            if (n == 0) errno = EIO;
-            fail("cannot write");
-        }
-        done += std::size_t(n);
-    }
+    if (!pwrite_all(fd_, buffer_.data(), buffer_.size(), buffer_start_)) fail("cannot write");
     buffer_start_ += buffer_.size();
     buffer_.clear();
 }

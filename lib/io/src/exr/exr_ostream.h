@@ -1,8 +1,9 @@
 // An OpenEXR output stream over a POSIX file that keeps the first write
-// error. OpenEXR's own file stream loses errors of the writes made while the
-// output file is destroyed (the offset tables, the last buffered bytes), so a
-// full disk could leave a truncated file that looks written; this one reports
-// them through finish(), with the system's reason ("No space left on device").
+// error and checks the close. OpenEXR's own file stream ignores errors of the
+// writes made while the output file is destroyed (the offset tables) and of
+// the close (where NFS reports some), and its messages name the temporary
+// file; this one reports every error through finish(), naming the target
+// and the system's reason ("No space left on device").
 #pragma once
 
 #include <cstdint>

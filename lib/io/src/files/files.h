@@ -3,6 +3,8 @@
 // io adapter; no OIIO or OpenEXR types here.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -19,6 +21,13 @@ GDOF_API std::string extension_lower(const std::string& path);
 
 // True if the file starts with the OpenEXR magic number.
 GDOF_API bool has_exr_magic(const std::string& path);
+
+// Writes all `n` bytes at `offset` of `fd`, retrying short writes; false
+// with errno set on failure (checked_write.cpp).
+GDOF_API bool pwrite_all(int fd, const void* data, std::size_t n, std::uint64_t offset);
+// Writes `data` to `path` (created or truncated), every write and the close
+// checked; errors name `display` and the system's reason.
+GDOF_API Status write_file(const std::string& path, const std::string& display, const void* data, std::size_t n);
 
 // Temporary name beside the target that keeps the extension:
 // "<dir>/.<name>.gdof-tmp-<host>-<pid>-<n>.<ext>".
