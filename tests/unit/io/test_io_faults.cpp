@@ -71,20 +71,22 @@ TEST(io_faults, FullDiskKeepsTheOldFileAndSaysNoSpace) {
     EXPECT_EQ(read_all(out), "old frame");
     EXPECT_TRUE(temp_files(dir.file("disk")).empty());
 
-    // A PNG through OpenImageIO, likewise.
-    const std::string png = dir.file("disk/out.png");
+    // PNG and TIFF through OpenImageIO, likewise.
     Image big = Image::with_channels({"R", "G", "B"}, {0, 0, 1024, 1024});
-    std::uint32_t x = 1;  // an LCG's bytes: 3 MB that PNG cannot compress
+    std::uint32_t x = 1;  // an LCG's bytes: 3 MB that neither format can compress
     for (int c = 0; c < 3; ++c)
         for (std::size_t i = 0; i < big.npixels(); ++i) {
             x = x * 1103515245u + 12345u;
             big.plane(c)[i] = float((x >> 16) & 255u) / 255.f;
         }
-    st = io::write_flat(png, big);
-    ASSERT_FALSE(st);
-    EXPECT_TRUE(has(st.message(), "out.png")) << st.message();
-    EXPECT_FALSE(fs::exists(png));
-    EXPECT_TRUE(temp_files(dir.file("disk")).empty());
+    for (const char* name : {"out.png", "out.tif"}) {
+        const std::string path = dir.file(std::string("disk/") + name);
+        st = io::write_flat(path, big);
+        ASSERT_FALSE(st) << name;
+        EXPECT_TRUE(has(st.message(), name)) << st.message();
+        EXPECT_FALSE(fs::exists(path));
+        EXPECT_TRUE(temp_files(dir.file("disk")).empty());
+    }
 }
 
 TEST(io_faults, FileSizeLimitGivesEfbigNotACorruptFile) {
