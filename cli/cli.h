@@ -14,7 +14,7 @@
 //   camera_field.cpp  the camera and blur field of an image (shared by the methods); blur_state.h
 //   stack_output.cpp  writing a focus/aperture stack (-o after --lightfield or --render --stack)
 //   text_input.cpp    JSON files named by flags
-//   progress.cpp  progress bar, frame counter, --stats timers
+//   progress.cpp  progress: one 0-100% scale per frame, a bar or log lines; --stats timers
 //   signals.cpp   SIGINT / SIGTERM -> cancel flag, exit 130 / 143
 //   main.cpp      session setup, error reporting and exit codes (the only file outside gdof_cli_lib)
 #pragma once
