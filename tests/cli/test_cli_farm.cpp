@@ -150,10 +150,10 @@ TEST(cli_farm, SeveralFramesToOneNameIsAUsageError) {
 }
 
 TEST(cli_farm, MissingOutputFolderReportedBeforeAnyWork) {
-    Scene sc("1920x1080");
+    Scene sc;
     const std::string out = sc.dir.file("no_such_folder/out.####.exr");
-    // The defocus of three 1080p frames would take seconds; the folder fails first,
-    // before the first input is read (its missing blur field would fail otherwise).
+    // The folder fails first, before the first step runs: the missing blur
+    // field (read before the defocus) would fail otherwise.
     const auto t0 = std::chrono::steady_clock::now();
     auto r = run_gdof("--frames 1-3 " + quote(sc.flat) + " --blurfield " + quote(sc.dir.file("missing.json")) +
                       " --diffuse -o " + quote(out));

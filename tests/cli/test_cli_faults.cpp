@@ -78,7 +78,7 @@ TEST(cli_faults, UnwritableFolderFailsBeforeAnyWork) {
 
 TEST(cli_faults, FolderRemovedDuringTheWork) {
     ScratchDir dir;
-    auto r = run_command(std::string("'") + GDOF_EXAMPLE_SCENE_PATH + "' --size 640x360 -o " +
+    auto r = run_command(std::string("'") + GDOF_EXAMPLE_SCENE_PATH + "' --size 960x540 -o " +
                          quote(dir.file("scene.exr")));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     fs::create_directories(dir.file("shot"));

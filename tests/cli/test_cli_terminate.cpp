@@ -18,7 +18,7 @@ void write_noise(const std::string& path, int w, int h) {
 
 TEST(cli_terminate, SigtermDuringTheWorkExits143WithNoOutput) {
     ScratchDir dir;
-    auto r = run_command(std::string("'") + GDOF_EXAMPLE_SCENE_PATH + "' --size 640x360 -o " +
+    auto r = run_command(std::string("'") + GDOF_EXAMPLE_SCENE_PATH + "' --size 960x540 -o " +
                          quote(dir.file("scene.exr")));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string log = dir.file("log.txt");
