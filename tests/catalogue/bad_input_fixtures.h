@@ -92,8 +92,7 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
              write_text(p, R"({"blurfield": {"kind": "focal_planes", "depths": [3, 12], "max_blur": 4, "slope": 4}})");
          }},
         {"surfaces.json", [](Fixtures&, const std::string& p) {
-             write_text(p, R"({"near": {"grid": [2, 2], "degree": 1, "control": [1, 1, 1, 1]},
-                               "far": {"grid": [2, 2], "degree": 1, "control": [3, 3, 3, 3]}})");
+             write_text(p, R"({"near": 1, "far": 3})");
          }},
         {"views", [](Fixtures&, const std::string& p) {
              fs::create_directories(p);
@@ -103,7 +102,7 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
          }},
         {"lf.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"disparity_at_infinity": 0})"); }},
         {"lfstack.json", [](Fixtures&, const std::string& p) {
-             write_text(p, R"({"references": [{"disparity": 0, "aperture": 1}]})");
+             write_text(p, R"({"disparities": [0], "apertures": [1]})");
          }},
         {"tri.obj", [](Fixtures&, const std::string& p) { write_text(p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"); }},
         // ---- damaged images
@@ -199,10 +198,10 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
              write_text(p, R"({"blurfield": {"kind": "focal_planes", "depths": [3], "max_blur": -2}})");
          }},
         {"missing_mask.json", [](Fixtures&, const std::string& p) {
-             write_text(p, R"({"blurfield": {"kind": "mask", "image": "no_such_mask.exr", "radius": 3}})");
+             write_text(p, R"({"blurfield": {"kind": "image_map", "image": "no_such_mask.exr", "scale": 3}})");
          }},
         {"surfaces_bad.json", [](Fixtures&, const std::string& p) {
-             write_text(p, R"({"near": {"grid": [2, 2], "degree": 1, "control": [1, 1, 1]}})");
+             write_text(p, R"({"near": {"grid": [[1, 2], [1]]}, "far": 3})");
          }},
         {"scene_syntax.json", [](Fixtures&, const std::string& p) { write_text(p, "{\"camera\": {\n  \"position\": [0, 0, 0],,\n}}"); }},
         {"scene_missing_mesh.json", [](Fixtures&, const std::string& p) {
@@ -227,26 +226,28 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
         {"nan.obj", [](Fixtures&, const std::string& p) { write_text(p, "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"); }},
         {"bad_index.obj", [](Fixtures&, const std::string& p) { write_text(p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n"); }},
         {"manifest_missing_file.json", [](Fixtures&, const std::string& p) {
-             write_text(p, R"({"references": [{"file": "gone.exr", "near": 1, "far": 2}, {"file": "gone2.exr", "near": 2, "far": 4}]})");
+             write_text(p, R"({"width": 16, "height": 9, "references": [{"file": "gone.exr", "focus_distance": 2, "f_number": 2.8, "near": 1, "far": 2},
+                                {"file": "gone2.exr", "focus_distance": 3, "f_number": 2.8, "near": 2, "far": 4}]})");
          }},
         {"manifest_empty.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"references": []})"); }},
         {"manifest_sizes.json", [](Fixtures& f, const std::string& p) {
              f.make("plain.exr");
              f.make("plain_20x10.exr");
-             write_text(p, R"({"references": [{"file": "plain.exr", "near": 1, "far": 2}, {"file": "plain_20x10.exr", "near": 2, "far": 4}]})");
+             write_text(p, R"({"references": [{"file": "plain.exr", "focus_distance": 2, "f_number": 2.8, "near": 1, "far": 2},
+                                {"file": "plain_20x10.exr", "focus_distance": 3, "f_number": 2.8, "near": 2, "far": 4}]})");
          }},
         {"manifest_f0.json", [](Fixtures& f, const std::string& p) {
              f.make("plain.exr");
-             write_text(p, R"({"references": [{"file": "plain.exr", "focus_distance": 2, "f_number": 0, "focal_length_mm": 50}],
-                               "coc_px": 1, "sensor_width_mm": 36})");
+             write_text(p, R"({"width": 16, "height": 9, "coc_px": 1, "sensor_width_mm": 36,
+                               "references": [{"file": "plain.exr", "focus_distance": 2, "f_number": 0, "focal_length_mm": 50}]})");
          }},
         {"manifest_lens_table.json", [](Fixtures& f, const std::string& p) {
              f.make("lens.csv");
-             write_text(p, R"({"pattern": "plain.####.exr", "frames": "1-2", "lens_table": "lens.csv"})");
+             write_text(p, R"({"pattern": "plain.####.exr", "table": "lens.csv"})");
          }},
         {"lens.csv", [](Fixtures&, const std::string& p) { write_text(p, "frame,focus_distance,f_number\n1,2,2.8\n2,\"4,2.8\n"); }},
         {"lf_bad.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"disparity_at_infinity": "far"})"); }},
-        {"lfstack_empty.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"references": []})"); }},
+        {"lfstack_empty.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"disparities": [], "apertures": [1]})"); }},
     };
     return t;
 }

@@ -28,7 +28,8 @@ inline std::pair<std::string, std::string> split(const std::string& s, std::stri
 }
 
 inline const std::string& scratch_dir() {
-    static const std::string dir = [] {
+    // Never freed: the exit handler that removes the folder runs after static destructors.
+    static const std::string& dir = *new std::string([] {
         const char* tmp = std::getenv("TMPDIR");
         std::string base = std::string(tmp && *tmp ? tmp : "/tmp") + "/gdof_fuzz_" + std::to_string(::getpid());
         std::filesystem::remove_all(base);
@@ -38,7 +39,7 @@ inline const std::string& scratch_dir() {
             std::filesystem::remove_all(scratch_dir(), ec);
         });
         return base;
-    }();
+    }());
     return dir;
 }
 
