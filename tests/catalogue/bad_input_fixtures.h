@@ -52,15 +52,17 @@ private:
                              quote(flat) + " --deep " + quote(deep));
         EXPECT_EQ(r.exit_code, 0) << r.output;
     }
-    // The example scene with `edit(x, y, channel name, value)` applied to its pixels.
+    // The example scene with `edit(x, y, channel name, value)` applied to its float pixels.
     void edited(const std::string& path, const std::function<float(int, int, const std::string&, float)>& edit) {
         auto in = io::read_flat(make("scene.exr"));
         ASSERT_TRUE(in) << in.message();
         Image img = in.value();
-        for (int c = 0; c < img.nchannels(); ++c)
+        for (int c = 0; c < img.nchannels(); ++c) {
+            if (img.channel(c).type == PixelType::UInt) continue;  // the id channel stays as it is
             for (int y = img.data_window().y0; y < img.data_window().y1; ++y)
                 for (int x = img.data_window().x0; x < img.data_window().x1; ++x)
                     img.at(c, x, y) = edit(x, y, img.channel(c).name, img.at(c, x, y));
+        }
         ASSERT_TRUE(io::write_flat(path, img));
     }
     // An RGBA + Z image of w x h without camera attributes.
