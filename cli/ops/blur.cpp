@@ -57,9 +57,10 @@ bool eval_blur_flat(Frame& f, Image& img, const std::string& where, std::vector<
     const PositionSource& source = f.source;
     auto pos = find_position_channels(img, source.position_channels);
     if (!pos) runtime_error("--position-channels: " + pos.message() + " in " + where);
+    // A --depth-channel the image lacks is an error even when positions are used.
+    auto z = find_depth_channel(img, source.depth_channel);
+    if (!z) runtime_error("--depth-channel: " + z.message() + " in " + where);
     if (!*pos) {
-        auto z = find_depth_channel(img, source.depth_channel);
-        if (!z) runtime_error("--depth-channel: " + z.message() + " in " + where);
         if (*z < 0) {
             skipped.push_back(where + " has no position channels (P.x/P.y/P.z, P.X/Y/Z, P.R/G/B, P.red/green/blue, "
                               "Pworld.*) and no depth channel '" + depth_channel_name(f) + "'");
@@ -68,8 +69,7 @@ bool eval_blur_flat(Frame& f, Image& img, const std::string& where, std::vector<
     }
     Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
     if (f.focus_at) {
-        auto z = find_depth_channel(img, source.depth_channel);
-        if (!z || *z < 0) runtime_error("--focus-at: " + where + " has no depth channel '" + depth_channel_name(f) + "'");
+        if (*z < 0) runtime_error("--focus-at: " + where + " has no depth channel '" + depth_channel_name(f) + "'");
         camera = focus_camera(f, img.metadata, img.display_window(), img, *z, camera, where);
     }
     const BlurField field = field_for(f, camera, "--eval-blur", where);

@@ -158,13 +158,15 @@ TEST(cli_composite, bad_inputs) {
     EXPECT_TRUE(contains(r.output, "ref.2.exr")) << r.output;
     EXPECT_TRUE(contains(r.output, "80x48")) << r.output;
     EXPECT_TRUE(contains(r.output, "96x48")) << r.output;
-    // Usage errors.
-    r = run_gdof("--composite " + quote(m) + " --soft 0 -o x.exr");
+    // Usage errors, on a sound stack again (every reference's size is checked
+    // before the focus source is looked at).
+    const std::string m_ok = make_stack(dir);
+    r = run_gdof("--composite " + quote(m_ok) + " --soft 0 -o x.exr");
     EXPECT_EQ(r.exit_code, 2) << r.output;
     r = run_gdof("--surfaces " + quote(dir.file("s.json")) + " in.exr -o x.exr");
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_TRUE(contains(r.output, "only used with --composite")) << r.output;
-    r = run_gdof("--composite " + quote(m) + " -o " + quote(dir.file("out.exr")));
+    r = run_gdof("--composite " + quote(m_ok) + " -o " + quote(dir.file("out.exr")));
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_TRUE(contains(r.output, "--surfaces")) << r.output;
 }

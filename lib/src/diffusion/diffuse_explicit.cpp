@@ -74,7 +74,17 @@ private:
 // [x0, x1) can change (the links elsewhere are 0): the rest is copied, which
 // is what the sums give there. The interior takes a branch-free loop the
 // compiler vectorises; the same sums in the same order as the border pixels'.
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define GDOF_NO_CLONES 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__) || defined(GDOF_NO_CLONES)
+// Under ThreadSanitizer one version only: the clones' resolver runs while the
+// program is loaded, before the sanitizer's runtime is ready, and crashes.
+#else
 __attribute__((target_clones("avx2", "default")))
+#endif
 void step_row(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const float* __restrict um,
               const float* __restrict u0, const float* __restrict us, float* __restrict out) {
     const float* __restrict ce_r = c.ce;

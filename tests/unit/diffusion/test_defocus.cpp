@@ -260,7 +260,7 @@ TEST(defocus, LayerWindowsAnywhereAndOutputWindow) {
     EXPECT_EQ(out->data_window(), intersect(window.grown(m), unite(display, window)));
     EXPECT_EQ(out->display_window(), display);
     // An empty list gives an empty result.
-    auto none = defocus_layers({}, constant_field(display, R), test_camera(display), DefocusOptions{});
+    auto none = defocus_layers(std::vector<Layer>{}, constant_field(display, R), test_camera(display), DefocusOptions{});
     ASSERT_TRUE(none) << none.message();
     EXPECT_TRUE(none->data_window().empty());
 }

@@ -235,3 +235,20 @@ TEST(io_errors, SuccessfulWriteReplacesTargetAtomically) {
     ASSERT_TRUE(io::write_flat(dir.file("p.tif"), img));
     EXPECT_TRUE(temp_files(dir.path()).empty());
 }
+
+// Found by tests/fuzz (fuzz_exr): a 1286-byte file whose header declares a
+// string attribute of 1979711507 bytes made OpenEXR allocate 2 GB before
+// failing. The headers are now walked first; the file is an error at once.
+TEST(io_errors, HeaderAttributeLargerThanTheFileIsAnErrorWithoutAllocating) {
+    const std::string path = std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/attribute_declares_2gb.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("attribute 'ate'"), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("declares 1979711507 bytes"), std::string::npos) << r.message();
+    // Sound files of every layout pass the walk (single and multipart, deep, tiled, mip-mapped).
+    for (const char* seed : {"flat_rgba_half.exr", "multipart.exr", "deep.exr", "deep_tiled.exr", "mipmap.exr",
+                             "attributes.exr"}) {
+        auto ok = io::read_image(std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/corpus/exr/" + seed);
+        EXPECT_TRUE(ok) << seed << ": " << ok.message();
+    }
+}

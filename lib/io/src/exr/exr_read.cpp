@@ -20,6 +20,7 @@
 
 #include "exr/exr_attributes.h"
 #include "exr/exr_common.h"
+#include "exr/exr_header_check.h"
 #include "exr/exr_io.h"
 #include "files/files.h"
 
@@ -206,6 +207,7 @@ Result<ImageSet> read_exr(const std::string& path) {
     std::error_code ec;
     const std::uint64_t file_size = std::filesystem::file_size(path, ec);
     if (ec) return Status::error(quoted(path) + ": cannot read (" + ec.message() + ")");
+    if (Status st = check_exr_header_sizes(path, file_size); !st) return st;
     try {
         ensure_exr_setup();
         Imf::MultiPartInputFile file(path.c_str(), exr_thread_count());

@@ -4,6 +4,7 @@
 
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <atomic>
@@ -286,14 +287,31 @@ Status StackReader::read_tile(int i, const Roi& tile, float* rgba) {
 }
 
 Status check_stack_files(const FocalStack& stack) {
+    // The first reference's size, or the manifest's, and whose it is.
+    int width = stack.width, height = stack.height;
+    std::string against = "the manifest's width/height";
     for (std::size_t i = 0; i < stack.references.size(); ++i) {
         const StackReference& r = stack.references[i];
+        const std::string where = "reference '" + r.path + "' (references[" + std::to_string(i) + "]";
         std::error_code ec;
-        if (!std::filesystem::exists(r.path, ec))
-            return Status::error("reference '" + r.path + "' (references[" + std::to_string(i) + "], \"file\": \"" +
-                                 r.file + "\"): file not found");
-        if (std::filesystem::is_directory(r.path, ec))
-            return Status::error("reference '" + r.path + "' (references[" + std::to_string(i) + "]): is a folder");
+        if (!std::filesystem::exists(r.path, ec)) return Status::error(where + ", \"file\": \"" + r.file + "\"): file not found");
+        if (std::filesystem::is_directory(r.path, ec)) return Status::error(where + "): is a folder");
+        // The header only: a reference of another size would otherwise be
+        // found only if a pixel picks it.
+        auto in = OIIO::ImageInput::open(r.path);
+        if (!in) {
+            const std::string e = OIIO::geterror();
+            return Status::error(where + "): cannot read: " + (e.empty() ? "unknown error" : e));
+        }
+        const OIIO::ImageSpec& spec = in->spec();
+        if (width <= 0 || height <= 0) {
+            width = spec.width;
+            height = spec.height;
+            against = "reference '" + r.path + "'";
+        } else if (spec.width != width || spec.height != height) {
+            return Status::error(where + ") is " + size_str(spec.width, spec.height) + " but " + against + " is " +
+                                 size_str(width, height) + " (all references must have one resolution)");
+        }
     }
     return Status::ok();
 }

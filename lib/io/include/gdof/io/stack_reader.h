@@ -64,8 +64,9 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Every file listed in the stack exists (an error naming the first missing
-// one and its manifest entry). Checks only names, opens nothing.
+// Every file listed in the stack exists and all have one size, the
+// manifest's width/height when given (an error naming the first missing or
+// mismatched one and its manifest entry). Reads only the headers.
 GDOF_API Status check_stack_files(const FocalStack& stack);
 
 }  // namespace gdof::io
