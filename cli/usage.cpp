@@ -47,6 +47,7 @@ std::string usage_text() {
       << "  gdof --frames 1001-1100 in.####.exr --blurfield field.json --eval-blur -o out.####.exr\n"
       << "  gdof in.exr --blurfield field.json --diffuse -o out.exr\n"
       << "  gdof deep.exr --layers 6 --solver explicit --diffuse -o out.exr\n"
+      << "  gdof deep.exr --blurfield field.json --psf-field swirl.json --vibrate -o out.exr\n"
       << "\nExit status: 0 success, 1 runtime error, 2 usage error, 130 interrupted (Ctrl-C).\n";
     return o.str();
 }

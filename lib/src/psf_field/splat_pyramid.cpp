@@ -23,7 +23,8 @@ SplatPyramid::SplatPyramid(const Roi& window, int levels) : window_(window) {
 }
 
 void SplatPyramid::clear() {
-    for (auto& c : cells_) std::fill(c.begin(), c.end(), 0.0f);
+    for (int k = 0; k <= top_used_; ++k) std::fill(cells_[std::size_t(k)].begin(), cells_[std::size_t(k)].end(), 0.0f);
+    top_used_ = 0;
 }
 
 void SplatPyramid::splat_level(int k, double px, double py, float w, const float* m, bool quad) {
@@ -47,6 +48,7 @@ void SplatPyramid::splat_level(int k, double px, double py, float w, const float
     }
     const int stride = nx_[k] + 2;
     float* cells = cells_[std::size_t(k)].data();
+    top_used_ = std::max(top_used_, k);
     for (int dj = 0; dj < taps; ++dj) {
         const int j = j0 + dj;
         if (j < -1 || j > ny_[k]) continue;
@@ -76,7 +78,7 @@ void SplatPyramid::splat(double px, double py, float level, const float* m) {
 const float* SplatPyramid::resolve() {
     // Coarse to fine: fine cell i' (level k-1) lies at coarse coordinate
     // i'/2 - 1/4: 3/4 of the nearer coarse cell, 1/4 of the next; / 4 keeps mass.
-    for (int k = int(cells_.size()) - 1; k >= 1; --k) {
+    for (int k = top_used_; k >= 1; --k) {  // levels above hold nothing
         const int cw = nx_[k] + 2, ch = ny_[k] + 2;
         const int fw = nx_[k - 1] + 2, fh = ny_[k - 1] + 2;
         const float* coarse = cells_[std::size_t(k)].data();

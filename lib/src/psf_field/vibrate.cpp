@@ -32,15 +32,16 @@ int automatic_samples(double max_displacement_px) {
 // One sample's buffers.
 struct Scratch {
     SplatPyramid pyramid;
-    std::vector<float> layers;  // depth-moving fields: per layer R, G, B, A, Z over the output
+    std::vector<float> layers;  // per layer R, G, B, A, Z over the output (depth-moving fields: all, else one)
     std::vector<float> rgba;    // the sample's composite, 4 planes over the output
     Scratch(const Roi& out, int levels, std::size_t nlayers, bool keep_layers)
-        : pyramid(out, levels), layers(keep_layers ? nlayers * 5 * out.npixels() : 0), rgba(4 * out.npixels()) {}
+        : pyramid(out, levels), layers((keep_layers ? nlayers : 1) * 5 * out.npixels()), rgba(4 * out.npixels()) {}
 };
 
-// The moved layer l into the pyramid, resolved and normalised.
-const float* splat_layer(const Sources& s, const PsfField& field, const Roi& frame, double u, double v, SplatPyramid& p,
-                         int nw) {
+// Layer `s` moved for sample (u, v): splatted, resolved and normalised into
+// five planes (R, G, B, A, Z) over the output.
+void moved_layer(const Sources& s, const PsfField& field, const Roi& frame, double u, double v, SplatPyramid& p, int nw,
+                 float* out) {
     p.clear();
     const Roi R = s.region;
     const int W = R.width();
@@ -62,38 +63,49 @@ const float* splat_layer(const Sources& s, const PsfField& field, const Roi& fra
             m[5] = 1.0f;
             p.splat(x + d.dx, y + d.dy, s.level[i], m);
         }
-    return p.resolve();
+    const float* c = p.resolve();
+    const std::size_t P = p.window().npixels();
+    for (std::size_t i = 0; i < P; ++i) {
+        const float* q = c + i * SplatPyramid::kChannels;
+        const float w = q[5];
+        float z = std::numeric_limits<float>::quiet_NaN();
+        if (w > kMinWeight) {
+            for (int k = 0; k < 4; ++k) out[std::size_t(k) * P + i] = q[k] / w;
+            if (q[3] > 0.0f) z = q[4] / q[3];
+        } else {
+            for (int k = 0; k < 4; ++k) out[std::size_t(k) * P + i] = 0.0f;
+        }
+        out[4 * P + i] = z;
+    }
 }
 
-void render_sample(const std::vector<Sources>& layers, const PsfField& field, const Roi& frame, const Roi& out,
-                   const ApertureSample& smp, Scratch& sc) {
+// `still`: per layer, its moved planes when no source moves with the sample
+// (made once), else empty.
+void render_sample(const std::vector<Sources>& layers, const std::vector<std::vector<float>>& still,
+                   const PsfField& field, const Roi& frame, const Roi& out, const ApertureSample& smp, Scratch& sc) {
     const std::size_t P = out.npixels();
     const int nw = field.weight_count();
     const bool by_depth = field.moves_depth();
     std::fill(sc.rgba.begin(), sc.rgba.end(), 0.0f);
     float* o[4] = {sc.rgba.data(), sc.rgba.data() + P, sc.rgba.data() + 2 * P, sc.rgba.data() + 3 * P};
     const int nl = int(layers.size());
+    std::vector<const float*> planes(static_cast<std::size_t>(nl), nullptr);
     for (int l = nl - 1; l >= 0; --l) {  // back to front
         const Sources& s = layers[std::size_t(l)];
         if (s.empty) continue;
-        const float* c = splat_layer(s, field, frame, smp.u, smp.v, sc.pyramid, nw);
-        float* keep = by_depth ? sc.layers.data() + std::size_t(l) * 5 * P : nullptr;
+        const float* v = still[std::size_t(l)].data();
+        if (still[std::size_t(l)].empty()) {
+            float* buf = sc.layers.data() + (by_depth ? std::size_t(l) * 5 * P : 0);
+            moved_layer(s, field, frame, smp.u, smp.v, sc.pyramid, nw, buf);
+            v = buf;
+        }
+        if (by_depth) {
+            planes[std::size_t(l)] = v;
+            continue;
+        }
         for (std::size_t i = 0; i < P; ++i) {
-            const float* q = c + i * SplatPyramid::kChannels;
-            const float w = q[5];
-            float v[4] = {0, 0, 0, 0};
-            float z = std::numeric_limits<float>::quiet_NaN();
-            if (w > kMinWeight) {
-                for (int k = 0; k < 4; ++k) v[k] = q[k] / w;
-                if (q[3] > 0.0f) z = q[4] / q[3];
-            }
-            if (keep) {
-                for (int k = 0; k < 4; ++k) keep[std::size_t(k) * P + i] = v[k];
-                keep[4 * P + i] = z;
-                continue;
-            }
-            const float t = 1.0f - std::clamp(v[3], 0.0f, 1.0f);  // v over what is behind
-            for (int k = 0; k < 4; ++k) o[k][i] = v[k] + t * o[k][i];
+            const float t = 1.0f - std::clamp(v[3 * P + i], 0.0f, 1.0f);  // v over what is behind
+            for (int k = 0; k < 4; ++k) o[k][i] = v[std::size_t(k) * P + i] + t * o[k][i];
         }
     }
     if (!by_depth) return;
@@ -102,18 +114,18 @@ void render_sample(const std::vector<Sources>& layers, const PsfField& field, co
     for (std::size_t i = 0; i < P; ++i) {
         int n = 0;
         for (int l = 0; l < nl; ++l) {
-            if (layers[std::size_t(l)].empty) continue;
-            const float* keep = sc.layers.data() + std::size_t(l) * 5 * P;
-            if (!(keep[3 * P + i] > 0.0f) && keep[i] == 0.0f && keep[P + i] == 0.0f && keep[2 * P + i] == 0.0f) continue;
-            const float z = keep[4 * P + i];
+            const float* v = planes[std::size_t(l)];
+            if (!v) continue;
+            if (!(v[3 * P + i] > 0.0f) && v[i] == 0.0f && v[P + i] == 0.0f && v[2 * P + i] == 0.0f) continue;
+            const float z = v[4 * P + i];
             order[std::size_t(n++)] = {std::isnan(z) ? std::numeric_limits<float>::infinity() : z, l};
         }
         std::sort(order.begin(), order.begin() + n);  // ties: the layer order
         float acc[4] = {0, 0, 0, 0}, t = 1.0f;
         for (int k = 0; k < n; ++k) {
-            const float* keep = sc.layers.data() + std::size_t(order[std::size_t(k)].second) * 5 * P;
-            for (int c = 0; c < 4; ++c) acc[c] += t * keep[std::size_t(c) * P + i];
-            t *= 1.0f - std::clamp(keep[3 * P + i], 0.0f, 1.0f);
+            const float* v = planes[std::size_t(order[std::size_t(k)].second)];
+            for (int c = 0; c < 4; ++c) acc[c] += t * v[std::size_t(c) * P + i];
+            t *= 1.0f - std::clamp(v[3 * P + i], 0.0f, 1.0f);
         }
         for (int c = 0; c < 4; ++c) o[c][i] = acc[c];
     }
@@ -171,11 +183,28 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
     S.samples = int(samples->size());
     S.spacing = spacing;
     for (const Sources& s : layers)
-        if (!s.empty) S.splats += s.region.npixels() * samples->size();
+        if (!s.empty) S.splats += s.region.npixels() * (s.still ? 1 : samples->size());
     S.t_prepare = seconds_since(t0);
 
     t0 = std::chrono::steady_clock::now();
     const std::size_t P = output.npixels();
+    // Layers that no sample moves: made once (in parallel over layers; each
+    // on its own pyramid).
+    std::vector<std::vector<float>> still(layers.size());
+    std::vector<int> still_index;
+    for (std::size_t l = 0; l < layers.size(); ++l)
+        if (!layers[l].empty && layers[l].still) still_index.push_back(int(l));
+    if (Status st = parallel_run(exec, long(still_index.size()), [&](long i0, long i1) {
+            SplatPyramid p(output, levels);
+            for (long i = i0; i < i1; ++i) {
+                const std::size_t l = std::size_t(still_index[std::size_t(i)]);
+                still[l].resize(5 * P);
+                moved_layer(layers[l], field, frame, 0.0, 0.0, p, field.weight_count(), still[l].data());
+            }
+            return Status::ok();
+        }, 1, "vibrate");
+        !st)
+        return st;
     std::vector<double> acc(4 * P, 0.0);
     std::vector<std::unique_ptr<Scratch>> scratch;
     const long ns = long(samples->size());
@@ -185,7 +214,7 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
             scratch.push_back(std::make_unique<Scratch>(output, levels, layers.size(), field.moves_depth()));
         Status st = parallel_run(exec, b1 - b0, [&](long i0, long i1) {
             for (long i = i0; i < i1; ++i)
-                render_sample(layers, field, frame, output, (*samples)[std::size_t(b0 + i)], *scratch[std::size_t(i)]);
+                render_sample(layers, still, field, frame, output, (*samples)[std::size_t(b0 + i)], *scratch[std::size_t(i)]);
             return Status::ok();
         }, 1, "vibrate");
         if (!st) return st;

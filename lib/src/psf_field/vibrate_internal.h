@@ -21,6 +21,9 @@ struct Sources {
     std::vector<float> level;          // footprint as a continuous pyramid level (after set_levels)
     double max_displacement = 0.0;
     bool empty = true;
+    // No source moves with the aperture sample (an in-focus layer, a constant
+    // depth offset): every sample sees the same moved layer, made once.
+    bool still = false;
 };
 
 // Prepares layer `layer` for `field` (its blend weights filled beyond the
@@ -57,6 +60,7 @@ private:
     std::vector<int> nx_, ny_;                // cells per level, without the border
     std::vector<std::vector<float>> cells_;  // (ny + 2) x (nx + 2) x kChannels
     std::vector<float> out_;
+    int top_used_ = 0;  // the coarsest level splatted since clear()
 };
 
 }  // namespace gdof::vibrate_detail

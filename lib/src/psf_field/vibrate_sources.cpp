@@ -81,12 +81,15 @@ Result<Sources> prepare_sources(const VibrateLayer& l, const PsfField& field, co
     // (A footprint's reach: 3 sigma, at most 1.5 * lmax for 4 samples or more,
     // or 3 * kStretchCap / 2.) Beyond the output only on the sides the content
     // touches: there the edge repeats.
-    const int grow = int(std::ceil(2.0 * dmax + std::max(1.5 * lmax, 1.5 * kStretchCap))) + 4;
+    // A source beyond the output lands in it only within its own reach.
+    const double reach = std::max(1.5 * lmax, 1.5 * kStretchCap);
+    const int grow = int(std::ceil(2.0 * dmax + reach)) + 4;
+    const int out_grow = int(std::ceil(dmax + reach)) + 4;
     Roi lim = output;
-    if (content.x0 <= output.x0) lim.x0 -= grow;
-    if (content.y0 <= output.y0) lim.y0 -= grow;
-    if (content.x1 >= output.x1) lim.x1 += grow;
-    if (content.y1 >= output.y1) lim.y1 += grow;
+    if (content.x0 <= output.x0) lim.x0 -= out_grow;
+    if (content.y0 <= output.y0) lim.y0 -= out_grow;
+    if (content.x1 >= output.x1) lim.x1 += out_grow;
+    if (content.y1 >= output.y1) lim.y1 += out_grow;
     s.region = intersect(content.grown(grow), lim);
     const Roi R = s.region;
     const std::size_t n = R.npixels();
@@ -152,6 +155,7 @@ Result<Sources> prepare_sources(const VibrateLayer& l, const PsfField& field, co
     }, 8);
     for (double d : row_dmax) dmax_all = std::max(dmax_all, d);
     s.max_displacement = dmax_all;
+    s.still = std::all_of(s.lipschitz.begin(), s.lipschitz.end(), [](float lip) { return lip == 0.0f; });
     // Stretch: the largest change of any probe's displacement to the right
     // or lower neighbour (both sides of the gap get the footprint).
     s.stretch.assign(n, 0.0f);

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "gdof/psf_field.h"
 
@@ -146,4 +149,18 @@ TEST(psf_field, ApertureSamplesAreAnEvenLatticeAndDeterministic) {
     auto c = aperture_samples(cat, 16, 1);
     ASSERT_FALSE(c);
     EXPECT_NE(c.message().find("cats_eye"), std::string::npos);
+}
+
+TEST(psf_field, ExampleFilesParse) {
+    const std::filesystem::path dir = std::filesystem::path(GDOF_SOURCE_DIR) / "examples" / "psf_fields";
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        if (e.path().extension() != ".json") continue;
+        std::ifstream f(e.path());
+        const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+        auto p = PsfField::parse(text);
+        EXPECT_TRUE(p) << e.path() << ": " << p.message();
+        ++n;
+    }
+    EXPECT_GE(n, 3);
 }
