@@ -18,12 +18,20 @@ SplatPyramid::SplatPyramid(const Roi& window, int levels) : window_(window) {
         nx_.push_back((window.width() >> k) + 1);
         ny_.push_back((window.height() >> k) + 1);
         cells_.emplace_back(std::size_t(nx_.back() + 2) * std::size_t(ny_.back() + 2) * kChannels, 0.0f);
+        box_.push_back(Roi{});
     }
     out_.assign(window.npixels() * kChannels, 0.0f);
 }
 
 void SplatPyramid::clear() {
-    for (int k = 0; k <= top_used_; ++k) std::fill(cells_[std::size_t(k)].begin(), cells_[std::size_t(k)].end(), 0.0f);
+    for (int k = 0; k <= top_used_; ++k) {
+        const Roi b = box_[std::size_t(k)];
+        const std::size_t stride = std::size_t(nx_[k] + 2);
+        for (int j = b.y0; j < b.y1; ++j)
+            std::fill_n(cells_[std::size_t(k)].data() + (std::size_t(j) * stride + std::size_t(b.x0)) * kChannels,
+                        std::size_t(b.width()) * kChannels, 0.0f);
+        box_[std::size_t(k)] = Roi{};
+    }
     top_used_ = 0;
 }
 
@@ -49,6 +57,9 @@ void SplatPyramid::splat_level(int k, double px, double py, float w, const float
     const int stride = nx_[k] + 2;
     float* cells = cells_[std::size_t(k)].data();
     top_used_ = std::max(top_used_, k);
+    // The cells written, stored indices (border included), clipped to the level.
+    Roi& b = box_[std::size_t(k)];
+    b = unite(b, intersect(Roi{i0 + 1, j0 + 1, i0 + 1 + taps, j0 + 1 + taps}, Roi{0, 0, nx_[k] + 2, ny_[k] + 2}));
     for (int dj = 0; dj < taps; ++dj) {
         const int j = j0 + dj;
         if (j < -1 || j > ny_[k]) continue;
@@ -75,7 +86,7 @@ void SplatPyramid::splat(double px, double py, float level, const float* m) {
     if (f > 0.0f && k0 + 1 <= top) splat_level(k0 + 1, px, py, f, m, true);
 }
 
-const float* SplatPyramid::resolve() {
+const float* SplatPyramid::resolve(Roi& box) {
     // Coarse to fine: fine cell i' (level k-1) lies at coarse coordinate
     // i'/2 - 1/4: 3/4 of the nearer coarse cell, 1/4 of the next; / 4 keeps mass.
     for (int k = top_used_; k >= 1; --k) {  // levels above hold nothing
@@ -83,13 +94,20 @@ const float* SplatPyramid::resolve() {
         const int fw = nx_[k - 1] + 2, fh = ny_[k - 1] + 2;
         const float* coarse = cells_[std::size_t(k)].data();
         float* fine = cells_[std::size_t(k - 1)].data();
-        for (int fj = 0; fj < fh; ++fj) {
+        // Coarse stored cell c (index c - 1) reaches fine indices 2(c-1) - 1 ..
+        // 2(c-1) + 2, stored 2(c-1) .. 2(c-1) + 3.
+        const Roi cb = box_[std::size_t(k)];
+        if (cb.empty()) continue;
+        const Roi fb = intersect(Roi{2 * (cb.x0 - 1), 2 * (cb.y0 - 1), 2 * (cb.x1 - 1) + 2, 2 * (cb.y1 - 1) + 2},
+                                 Roi{0, 0, fw, fh});
+        box_[std::size_t(k - 1)] = unite(box_[std::size_t(k - 1)], fb);
+        for (int fj = fb.y0; fj < fb.y1; ++fj) {
             const int j = fj - 1;  // fine index with border
             const int jm = (j >= 0 ? j / 2 : -1);  // floor(j / 2) for j >= -1
             const int jn = (j & 1) ? jm + 1 : jm - 1;
             const int cj[2] = {jm + 1, jn + 1};  // with the coarse border
             const float wj[2] = {0.75f, 0.25f};
-            for (int fi = 0; fi < fw; ++fi) {
+            for (int fi = fb.x0; fi < fb.x1; ++fi) {
                 const int i = fi - 1;
                 const int im = (i >= 0 ? i / 2 : -1);
                 const int in = (i & 1) ? im + 1 : im - 1;
@@ -108,11 +126,15 @@ const float* SplatPyramid::resolve() {
             }
         }
     }
-    const int W = window_.width(), H = window_.height(), stride = nx_[0] + 2;
+    // Level 0's written cells as window pixels (stored index - 1).
+    const int W = window_.width(), stride = nx_[0] + 2;
+    const Roi b0 = box_[0];
+    box = intersect(Roi{b0.x0 - 1, b0.y0 - 1, b0.x1 - 1, b0.y1 - 1}, Roi{0, 0, W, window_.height()});
     const float* c0 = cells_[0].data();
-    for (int y = 0; y < H; ++y)
-        std::copy_n(c0 + (std::size_t(y + 1) * std::size_t(stride) + 1) * kChannels, std::size_t(W) * kChannels,
-                    out_.data() + std::size_t(y) * std::size_t(W) * kChannels);
+    for (int y = box.y0; y < box.y1; ++y)
+        std::copy_n(c0 + (std::size_t(y + 1) * std::size_t(stride) + std::size_t(box.x0 + 1)) * kChannels,
+                    std::size_t(box.width()) * kChannels,
+                    out_.data() + (std::size_t(y) * std::size_t(W) + std::size_t(box.x0)) * kChannels);
     return out_.data();
 }
 

@@ -39,8 +39,9 @@ struct Scratch {
 };
 
 // Layer `s` moved for sample (u, v): splatted, resolved and normalised into
-// five planes (R, G, B, A, Z) over the output.
-void moved_layer(const Sources& s, const PsfField& field, const Roi& frame, double u, double v, SplatPyramid& p, int nw,
+// five planes (R, G, B, A, Z) over the output; returns where anything landed
+// (output-relative pixels; zero and NaN Z elsewhere).
+Roi moved_layer(const Sources& s, const PsfField& field, const Roi& frame, double u, double v, SplatPyramid& p, int nw,
                  float* out) {
     p.clear();
     const Roi R = s.region;
@@ -63,25 +64,31 @@ void moved_layer(const Sources& s, const PsfField& field, const Roi& frame, doub
             m[5] = 1.0f;
             p.splat(x + d.dx, y + d.dy, s.level[i], m);
         }
-    const float* c = p.resolve();
+    Roi box;
+    const float* c = p.resolve(box);
     const std::size_t P = p.window().npixels();
-    for (std::size_t i = 0; i < P; ++i) {
-        const float* q = c + i * SplatPyramid::kChannels;
-        const float w = q[5];
-        float z = std::numeric_limits<float>::quiet_NaN();
-        if (w > kMinWeight) {
-            for (int k = 0; k < 4; ++k) out[std::size_t(k) * P + i] = q[k] / w;
-            if (q[3] > 0.0f) z = q[4] / q[3];
-        } else {
-            for (int k = 0; k < 4; ++k) out[std::size_t(k) * P + i] = 0.0f;
+    const int W_out = p.window().width();
+    std::fill(out, out + 4 * P, 0.0f);
+    std::fill(out + 4 * P, out + 5 * P, std::numeric_limits<float>::quiet_NaN());
+    for (int y = box.y0; y < box.y1; ++y)
+        for (int x = box.x0; x < box.x1; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(W_out) + std::size_t(x);
+            const float* q = c + i * SplatPyramid::kChannels;
+            const float w = q[5];
+            float z = std::numeric_limits<float>::quiet_NaN();
+            if (w > kMinWeight) {
+                for (int k = 0; k < 4; ++k) out[std::size_t(k) * P + i] = q[k] / w;
+                if (q[3] > 0.0f) z = q[4] / q[3];
+            }
+            out[4 * P + i] = z;
         }
-        out[4 * P + i] = z;
-    }
+    return box;
 }
 
 // `still`: per layer, its moved planes when no source moves with the sample
 // (made once), else empty.
 void render_sample(const std::vector<Sources>& layers, const std::vector<std::vector<float>>& still,
+                   const std::vector<Roi>& still_box,
                    const PsfField& field, const Roi& frame, const Roi& out, const ApertureSample& smp, Scratch& sc) {
     const std::size_t P = out.npixels();
     const int nw = field.weight_count();
@@ -94,19 +101,23 @@ void render_sample(const std::vector<Sources>& layers, const std::vector<std::ve
         const Sources& s = layers[std::size_t(l)];
         if (s.empty) continue;
         const float* v = still[std::size_t(l)].data();
+        Roi box = still_box[std::size_t(l)];
         if (still[std::size_t(l)].empty()) {
             float* buf = sc.layers.data() + (by_depth ? std::size_t(l) * 5 * P : 0);
-            moved_layer(s, field, frame, smp.u, smp.v, sc.pyramid, nw, buf);
+            box = moved_layer(s, field, frame, smp.u, smp.v, sc.pyramid, nw, buf);
             v = buf;
         }
         if (by_depth) {
             planes[std::size_t(l)] = v;
             continue;
         }
-        for (std::size_t i = 0; i < P; ++i) {
-            const float t = 1.0f - std::clamp(v[3 * P + i], 0.0f, 1.0f);  // v over what is behind
-            for (int k = 0; k < 4; ++k) o[k][i] = v[std::size_t(k) * P + i] + t * o[k][i];
-        }
+        // Outside the box the layer is empty: `over` changes nothing.
+        for (int y = box.y0; y < box.y1; ++y)
+            for (int x = box.x0; x < box.x1; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(out.width()) + std::size_t(x);
+                const float t = 1.0f - std::clamp(v[3 * P + i], 0.0f, 1.0f);  // v over what is behind
+                for (int k = 0; k < 4; ++k) o[k][i] = v[std::size_t(k) * P + i] + t * o[k][i];
+            }
     }
     if (!by_depth) return;
     // Depth moved: per pixel, the layers front to back in their moved depth.
@@ -191,6 +202,7 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
     // Layers that no sample moves: made once (in parallel over layers; each
     // on its own pyramid).
     std::vector<std::vector<float>> still(layers.size());
+    std::vector<Roi> still_box(layers.size());
     std::vector<int> still_index;
     for (std::size_t l = 0; l < layers.size(); ++l)
         if (!layers[l].empty && layers[l].still) still_index.push_back(int(l));
@@ -199,7 +211,7 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
             for (long i = i0; i < i1; ++i) {
                 const std::size_t l = std::size_t(still_index[std::size_t(i)]);
                 still[l].resize(5 * P);
-                moved_layer(layers[l], field, frame, 0.0, 0.0, p, field.weight_count(), still[l].data());
+                still_box[l] = moved_layer(layers[l], field, frame, 0.0, 0.0, p, field.weight_count(), still[l].data());
             }
             return Status::ok();
         }, 1, "vibrate");
@@ -214,7 +226,7 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
             scratch.push_back(std::make_unique<Scratch>(output, levels, layers.size(), field.moves_depth()));
         Status st = parallel_run(exec, b1 - b0, [&](long i0, long i1) {
             for (long i = i0; i < i1; ++i)
-                render_sample(layers, still, field, frame, output, (*samples)[std::size_t(b0 + i)], *scratch[std::size_t(i)]);
+                render_sample(layers, still, still_box, field, frame, output, (*samples)[std::size_t(b0 + i)], *scratch[std::size_t(i)]);
             return Status::ok();
         }, 1, "vibrate");
         if (!st) return st;

@@ -50,8 +50,9 @@ public:
     // bilinear on level 0, for sources that do not move).
     void splat(double px, double py, float level, const float* m);
     // Upsamples every level into level 0 and returns it: per pixel of the
-    // window, kChannels values (row-major, interleaved).
-    const float* resolve();
+    // window, kChannels values (row-major, interleaved), valid inside `box`
+    // (window-relative pixels: where anything landed; nothing outside).
+    const float* resolve(Roi& box);
     const Roi& window() const { return window_; }
 
 private:
@@ -59,6 +60,7 @@ private:
     Roi window_;
     std::vector<int> nx_, ny_;                // cells per level, without the border
     std::vector<std::vector<float>> cells_;  // (ny + 2) x (nx + 2) x kChannels
+    std::vector<Roi> box_;                   // per level: the cells written (stored indices)
     std::vector<float> out_;
     int top_used_ = 0;  // the coarsest level splatted since clear()
 };
