@@ -409,10 +409,10 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                 DefocusOptions ds;
                 ds.filter = DefocusFilter::Vibrate;
                 ds.vibrate.samples = n;
-                const ImageSet* in = input == "deep" ? &deep_set : &flat_set;
+                const ImageSet* src = input == "deep" ? &deep_set : &flat_set;
                 ImageSet result;
                 DefocusStats st;
-                const double secs = best_time(reps, [&] { result = take(defocus(*in, field, cam, ds, &st), "vibrate"); });
+                const double secs = best_time(reps, [&] { result = take(defocus(*src, field, cam, ds, &st), "vibrate"); });
                 row("vibrate (" + input + ")", "samples=" + (n ? std::to_string(n) : "auto:" + std::to_string(st.vibrate.samples)),
                     secs, result.flat(0));
             }

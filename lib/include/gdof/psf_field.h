@@ -133,9 +133,10 @@ struct VibrateLayer {
 // by the splatted weight (a layer's transparent pixels splat weight too, so
 // silhouettes blur semi-transparent); per output pixel the moved layers are
 // composited front to back in the order of their moved depths; the samples
-// are averaged. `frame` (the display window) is where pixels exist: sources
-// beyond it repeat its edge. Output float R, G, B, A over `output`;
-// bit-identical for any thread count.
+// are averaged. `frame` (the display window) sets the swirl's centre and
+// half diagonal; beyond `output` sources repeat its edge (where a layer's
+// content touches it). Output float R, G, B, A over `output`; bit-identical
+// for any thread count.
 GDOF_API Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, const PsfField& field,
                                       const Aperture& aperture, const Camera& camera, const Roi& frame,
                                       const Roi& output, const VibrateOptions& options, VibrateStats* stats = nullptr,
