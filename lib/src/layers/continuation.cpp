@@ -91,8 +91,9 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 }
 
 BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
-                                   int W, int H, const Exec& exec) {
+                                   int W, int H, const Exec& exec, double bound) {
     const std::size_t n = slice.size();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
     auto front = [&](std::size_t i) {  // the pixel's nearest slice, -1: no sample
         return fg_slice[i] >= 0 && fg_slice[i] < slice[i] ? fg_slice[i] : slice[i];
     };
@@ -101,30 +102,93 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
     // there, and a copy of the next strip would blur out over it a second time.
     BackgroundOwners out;
     out.owner.assign(n, -1);
-    out.distance.assign(n, std::numeric_limits<float>::infinity());
+    out.distance.assign(n, kInf);
     std::vector<int> best_k(n, -1);
     std::vector<float> best, dist;
-    std::vector<unsigned char> mask(n, 0);
+    std::vector<unsigned char> mask;
+    // Each slice's box (its own pixels, where slice or fg_slice is k), and
+    // whether anything is empty, in one pass over bands of rows.
+    const int nbands = std::max(1, std::min(H, 64));
+    std::vector<Roi> band_box(std::size_t(nbands) * std::size_t(std::max(0, nslices)));
+    std::vector<unsigned char> band_empty(std::size_t(nbands), 0);
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            const int y0 = int(std::int64_t(H) * b / nbands), y1 = int(std::int64_t(H) * (b + 1) / nbands);
+            Roi* box = band_box.data() + std::size_t(b) * std::size_t(nslices);
+            for (int y = y0; y < y1; ++y)
+                for (int x = 0; x < W; ++x) {
+                    const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                    if (slice[i] < 0) band_empty[std::size_t(b)] = 1;
+                    for (int k : {slice[i], fg_slice[i]})
+                        if (k >= 0 && k < nslices) box[k] = unite(box[k], Roi{x, y, x + 1, y + 1});
+                }
+        }
+    });
+    std::vector<Roi> box(std::size_t(std::max(0, nslices)));
     bool any_empty = false;
-    for (std::size_t i = 0; i < n; ++i)
-        if (slice[i] < 0) mask[i] = 1, any_empty = true;
-    if (any_empty) distance_transform(mask, W, H, best, exec);
-    else best.assign(n, std::numeric_limits<float>::infinity());
+    for (int b = 0; b < nbands; ++b) {
+        any_empty = any_empty || band_empty[std::size_t(b)];
+        for (int k = 0; k < nslices; ++k)
+            box[std::size_t(k)] = unite(box[std::size_t(k)], band_box[std::size_t(b) * std::size_t(nslices) + std::size_t(k)]);
+    }
+    // Bounded: distances beyond `bound` are not needed, only whether some
+    // slice is behind at all. That is exact only without emptiness, which
+    // competes at every distance.
+    const bool bounded = std::isfinite(bound) && !any_empty;
+    const int grow = bounded ? int(std::ceil(std::max(0.0, bound))) + 1 : 0;
+    const Roi frame{0, 0, W, H};
+    if (any_empty) {
+        mask.assign(n, 0);
+        parallel_for(exec, H, [&](long y0, long y1) {
+            for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
+                mask[i] = slice[i] < 0;
+        }, 16);
+        distance_transform(mask, W, H, best, exec);
+    } else {
+        best.assign(n, kInf);
+    }
     // Back to front: before slice k's distances join, `best` holds the
     // nearest of the slices behind k, which is what k's pixels need. The
     // nearest slice's own distances would serve no pixel: not computed.
+    int behind = -1;  // the farthest non-empty slice behind k
     for (int k = nslices - 1; k >= 0; --k) {
-        parallel_for(exec, H, [&](long y0, long y1) {
-            for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
-                if (front(i) == k) out.owner[i] = best_k[i], out.distance[i] = best[i];
-                mask[i] = slice[i] == k || fg_slice[i] == k;
-            }
-        }, 16);
-        if (k == 0) break;
-        distance_transform(mask, W, H, dist, exec);
+        const int fallback = bounded ? behind : -1;
         parallel_for(exec, H, [&](long y0, long y1) {
             for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
-                if (dist[i] <= best[i]) best[i] = dist[i], best_k[i] = k;  // ties: the nearer slice
+                if (front(i) == k) {
+                    // Beyond every slice's bound the farthest fills (the
+                    // extension's farthest_fills_frame): any owner >= 0 says so.
+                    const bool near = best_k[i] >= 0;
+                    out.owner[i] = near ? best_k[i] : fallback;
+                    out.distance[i] = near ? best[i] : kInf;
+                }
+        }, 16);
+        const Roi& own = box[std::size_t(k)];
+        if (k == 0 || own.empty()) continue;
+        if (behind < 0) behind = k;
+        // The distances to slice k over its box grown by the bound (all of
+        // the frame when unbounded): exact there, beyond the bound outside.
+        const Roi win = bounded ? intersect(own.grown(grow), frame) : frame;
+        const int ww = win.width(), wh = win.height();
+        mask.assign(win.npixels(), 0);
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (long r = r0; r < r1; ++r) {
+                const std::size_t src = std::size_t(win.y0 + r) * std::size_t(W) + std::size_t(win.x0);
+                unsigned char* m = mask.data() + std::size_t(r) * std::size_t(ww);
+                for (int x = 0; x < ww; ++x) m[x] = slice[src + std::size_t(x)] == k || fg_slice[src + std::size_t(x)] == k;
+            }
+        }, 16);
+        distance_transform(mask, ww, wh, dist, exec);
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (long r = r0; r < r1; ++r) {
+                const std::size_t src = std::size_t(win.y0 + r) * std::size_t(W) + std::size_t(win.x0);
+                const float* d = dist.data() + std::size_t(r) * std::size_t(ww);
+                for (int x = 0; x < ww; ++x) {
+                    const std::size_t i = src + std::size_t(x);
+                    if (bounded && !(d[x] <= bound)) continue;
+                    if (d[x] <= best[i]) best[i] = d[x], best_k[i] = k;  // ties: the nearer slice
+                }
+            }
         }, 16);
     }
     return out;

@@ -269,7 +269,11 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
 
     // Which slice continues or extends behind each pixel (the background
     // seen nearest to it).
-    BackgroundOwners bo = background_owners(L->slice_, L->fg_slice_, ns, W, H, exec);
+    // Only owners within reach matter (the farthest fills beyond it); with
+    // continued surfaces a layer's coverage grows by up to reach * sqrt(2)
+    // before its own reach is measured.
+    const double bound = options.continue_surfaces ? options.extend_px * 2.5 + 2.0 : options.extend_px;
+    BackgroundOwners bo = background_owners(L->slice_, L->fg_slice_, ns, W, H, exec, bound);
     L->owner_ = std::move(bo.owner);
     L->owner_distance_ = std::move(bo.distance);
 

@@ -59,12 +59,19 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 // sample), the one whose own pixels (where slice or fg_slice is k) are
 // nearest, -1 where emptiness (no sample) is nearer or nothing is behind;
 // and the distance to it (+inf where none).
+// With a finite `bound` and no emptiness (a plate), distances beyond it are
+// not computed (each slice's distances only over its box grown by the
+// bound): a pixel no slice behind it reaches within the bound gets the
+// farthest non-empty slice behind it and distance +inf. So the owners and
+// distances are those of the unbounded call wherever the distance is within
+// the bound, and the owner is >= 0 exactly where it is.
 struct BackgroundOwners {
     std::vector<int> owner;
     std::vector<float> distance;
 };
 BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
-                                   int width, int height, const Exec& exec = {});
+                                   int width, int height, const Exec& exec = {},
+                                   double bound = std::numeric_limits<double>::infinity());
 
 // A layer pixel's own coverage: alpha > 0 or any colour != 0.
 inline bool covers(float r, float g, float b, float a) { return a > 0.0f || r != 0.0f || g != 0.0f || b != 0.0f; }

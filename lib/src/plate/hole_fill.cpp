@@ -89,17 +89,19 @@ float continue_surface(const std::vector<Candidate>& c, float median) {
 
 }  // namespace
 
-Guide make_guide(const Image& plate) {
+Guide make_guide(const Image& plate, const Exec& exec) {
     Guide g;
     const RgbaIndices ix = find_rgba(plate);
     const int ch[3] = {ix.r, ix.g, ix.b};
     for (int c : ch)
         if (c < 0 || !plate.plane(c)) return g;
+    const long n = long(plate.npixels());
     for (int k = 0; k < 3; ++k) {
         const float* p = plate.plane(ch[k]);
-        g.c[k].resize(plate.npixels());
-        for (std::size_t i = 0; i < plate.npixels(); ++i)
-            g.c[k][i] = std::isfinite(p[i]) ? std::sqrt(std::clamp(p[i], 0.0f, 16.0f)) : 0.0f;
+        float* q = (g.c[k].resize(std::size_t(n)), g.c[k].data());
+        parallel_for(exec, n, [&](long i0, long i1) {
+            for (long i = i0; i < i1; ++i) q[i] = std::isfinite(p[i]) ? std::sqrt(std::clamp(p[i], 0.0f, 16.0f)) : 0.0f;
+        }, 65536);
     }
     return g;
 }

@@ -76,10 +76,13 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity, exec);
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
-        out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed);
+        out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed, exec);
     }
-    if (Status st = fill_holes(out.depth, W, H, make_guide(plate), exec, out.stats.filled); !st)
-        return st.prefix("plate depth");
+    // The colour guide (three planes the plate's size) only when there is a
+    // hole to fill: most rendered depth has none.
+    if (out.stats.holes + out.stats.speckles > 0)
+        if (Status st = fill_holes(out.depth, W, H, make_guide(plate, exec), exec, out.stats.filled); !st)
+            return st.prefix("plate depth");
     if (options.split_mixed) {
         const RgbaIndices ix = find_rgba(plate);
         const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,

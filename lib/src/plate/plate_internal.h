@@ -17,7 +17,7 @@ struct Guide {
     std::vector<float> c[3];
     bool empty() const { return c[0].empty(); }
 };
-Guide make_guide(const Image& plate);
+Guide make_guide(const Image& plate, const Exec& exec = {});
 
 // Pixels sandwiched between a nearer and a farther neighbour on one line
 // (steps larger than `continuity`) whose outer neighbours on that line are
@@ -30,7 +30,7 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
 // Islands of at most `max_px` pixels that no neighbour continues become NaN
 // (pixels with keep[i] != 0 never); returns how many pixels.
 std::size_t remove_speckles(std::vector<float>& depth, int width, int height, double continuity, int max_px,
-                            const std::vector<unsigned char>& keep);
+                            const std::vector<unsigned char>& keep, const Exec& exec = {});
 
 // Fills every NaN from its surroundings (see plate.h); returns how many. Needs
 // at least one non-NaN pixel.

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
+#include <utility>
 
 #include "plate/plate_internal.h"
 
@@ -46,54 +48,94 @@ bool continuous(float a, float b, double ratio) {
 }  // namespace
 
 std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px,
-                            const std::vector<unsigned char>& keep) {
+                            const std::vector<unsigned char>& keep, const Exec& exec) {
     const std::size_t n = depth.size();
     UnionFind uf(n);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const int i = y * W + x;
-            const float d = depth[std::size_t(i)];
-            if (std::isnan(d)) continue;
-            // Forward neighbours only: right, below-left, below, below-right.
-            const int nb[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-            for (const auto& o : nb) {
-                const int xx = x + o[0], yy = y + o[1];
-                if (xx < 0 || xx >= W || yy >= H) continue;
-                const int j = yy * W + xx;
-                if (continuous(d, depth[std::size_t(j)], continuity)) uf.join(i, j);
+    // Components in bands of rows, in parallel: a band's joins touch only its
+    // own pixels, so the bands' union-find trees are disjoint; the rows
+    // between bands are joined after, one band edge at a time. The
+    // components (and so what is removed) do not depend on the order.
+    constexpr int kBand = 64;
+    const int nbands = (H + kBand - 1) / kBand;
+    auto join_forward = [&](int x, int y, int ylimit) {
+        const int i = y * W + x;
+        const float d = depth[std::size_t(i)];
+        if (std::isnan(d)) return;
+        // Forward neighbours only: right, below-left, below, below-right.
+        const int nb[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+        for (const auto& o : nb) {
+            const int xx = x + o[0], yy = y + o[1];
+            if (xx < 0 || xx >= W || yy >= ylimit) continue;
+            const int j = yy * W + xx;
+            if (continuous(d, depth[std::size_t(j)], continuity)) uf.join(i, j);
+        }
+    };
+    parallel_for(exec, nbands, [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            const int y0 = int(b) * kBand, y1 = std::min(H, y0 + kBand);
+            for (int y = y0; y < y1; ++y)
+                for (int x = 0; x < W; ++x) join_forward(x, y, y1);
+        }
+    });
+    for (int b = 1; b < nbands; ++b)
+        for (int x = 0; x < W; ++x) join_forward(x, b * kBand - 1, std::min(H, b * kBand + 1));
+    // Roots without path compression (reads only, so in parallel).
+    std::vector<int> root(n);
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
+            int r = int(i);
+            while (uf.parent[std::size_t(r)] != r) r = uf.parent[std::size_t(r)];
+            root[i] = r;
+        }
+    }, 16);
+    auto small = [&](std::size_t i) { return uf.size[std::size_t(root[i])] <= max_px; };
+    // Per small component: how many of its outside neighbours there are, and
+    // how many lie in large components. Small components are few: each row
+    // lists its pixels' counts, summed per component after.
+    struct Count {
+        int root, all, big;
+    };
+    std::vector<std::vector<Count>> row_counts(static_cast<std::size_t>(H));
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (std::isnan(depth[i]) || !small(i)) continue;
+                Count c{root[i], 0, 0};
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if ((dx == 0 && dy == 0) || xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        if (std::isnan(depth[j]) || root[j] == root[i]) continue;
+                        ++c.all;
+                        if (!small(j)) ++c.big;
+                    }
+                if (c.all) row_counts[std::size_t(y)].push_back(c);
             }
+    }, 16);
+    std::unordered_map<int, std::pair<int, int>> comp;  // root -> (all, big)
+    for (const auto& row : row_counts)
+        for (const Count& c : row) {
+            auto& t = comp[c.root];
+            t.first += c.all, t.second += c.big;
         }
-    // Per small component: how many of its outside neighbours lie in large components.
-    std::vector<int> big_nb(n, 0), all_nb(n, 0);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const int i = y * W + x;
-            if (std::isnan(depth[std::size_t(i)])) continue;
-            const int ri = uf.find(i);
-            if (uf.size[std::size_t(ri)] > max_px) continue;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if ((dx == 0 && dy == 0) || xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                    const int j = yy * W + xx;
-                    if (std::isnan(depth[std::size_t(j)])) continue;
-                    const int rj = uf.find(j);
-                    if (rj == ri) continue;
-                    ++all_nb[std::size_t(ri)];
-                    if (uf.size[std::size_t(rj)] > max_px) ++big_nb[std::size_t(ri)];
+    std::vector<std::size_t> row_removed(std::size_t(H), 0);
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i) {
+                if (std::isnan(depth[i]) || keep[i] || !small(i)) continue;
+                const auto it = comp.find(root[i]);
+                if (it == comp.end()) continue;
+                const int all = it->second.first, big = it->second.second;
+                if (all > 0 && 2 * big >= all) {
+                    depth[i] = std::numeric_limits<float>::quiet_NaN();
+                    ++row_removed[std::size_t(y)];
                 }
-        }
+            }
+    }, 16);
     std::size_t removed = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (std::isnan(depth[i]) || keep[i]) continue;
-        const int r = uf.find(int(i));
-        if (uf.size[std::size_t(r)] > max_px) continue;
-        const int all = all_nb[std::size_t(r)], big = big_nb[std::size_t(r)];
-        if (all > 0 && 2 * big >= all) {
-            depth[i] = std::numeric_limits<float>::quiet_NaN();
-            ++removed;
-        }
-    }
+    for (std::size_t r : row_removed) removed += r;
     return removed;
 }
 

@@ -42,11 +42,13 @@ std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
 }
 
 // Second Sobol dimension (primitive polynomial x + 1): direction numbers
-// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1) (Pascal's triangle mod 2).
-std::uint32_t sobol_dim1(std::uint32_t index) {
+// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1) (Pascal's triangle mod 2); here
+// bit-reversed (v_1 = 1, v_{k+1} = v_k ^ (v_k << 1)), which is what the
+// scramble takes, so no reversal is needed before it.
+std::uint32_t sobol_dim1_reversed(std::uint32_t index) {
     std::uint32_t r = 0;
-    std::uint32_t v = 0x80000000u;
-    for (; index; index >>= 1, v ^= v >> 1)
+    std::uint32_t v = 1u;
+    for (; index; index >>= 1, v ^= v << 1)
         if (index & 1u) r ^= v;
     return r;
 }
@@ -73,9 +75,13 @@ Vec2 PixelSampler::Sequence::at(std::uint32_t index) const {
     // Shuffle the order: an Owen scramble of the index permutes aligned
     // blocks of 2^k indices among themselves, so each prefix of 2^k samples
     // is still an aligned block of the (0,2)-sequence, a (0,k,2)-net.
+    // Dimension 0 is the radical inverse reverse_bits(i) and dimension 1
+    // sobol_dim1(i); owen_scramble(v, s) = reverse_bits(upward_hash(
+    // reverse_bits(v), s)), so the inner reversals cancel (the same bits,
+    // four bit reversals per sample instead of seven).
     const std::uint32_t i = owen_scramble(index, order);
-    const std::uint32_t a = owen_scramble(reverse_bits(i), x);
-    const std::uint32_t b = owen_scramble(sobol_dim1(i), y);
+    const std::uint32_t a = reverse_bits(upward_hash(i, x));
+    const std::uint32_t b = reverse_bits(upward_hash(sobol_dim1_reversed(i), y));
     return {to_unit(a), to_unit(b)};
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -152,6 +153,34 @@ TEST(plate_depth, SpecklesAreRemovedAndThinStructuresKept) {
     for (auto [sx, sy] : specks)
         EXPECT_NEAR(at(*pd, sx, sy), true_depth(sx, sy), 0.03 * true_depth(sx, sy)) << sx << "," << sy;
     for (int y = 12; y < 108; ++y) EXPECT_FLOAT_EQ(at(*pd, 130, y), 1.2f) << "the pole stays, row " << y;
+}
+
+TEST(plate_depth, SpecklesAcrossRowBandsAndThreadCounts) {
+    // Components are found in bands of 64 rows, joined after: a speck two
+    // pixels tall across the band edge (rows 63, 64) is one component of 2
+    // and goes; a pole crossing the edge is one long component and stays;
+    // so does a blob of 40 px (above the 33-px speckle size at this frame)
+    // split 20/20 by the edge. 1 and 2 threads give the same bits.
+    const Image img = plate([&](int x, int y) {
+        if (x == 20 && (y == 63 || y == 64)) return 0.7f;
+        if (x == 130 && y >= 10 && y < 110) return 1.2f;
+        if (x >= 40 && x < 44 && y >= 59 && y < 69) return 0.8f;
+        return float(true_depth(x, y));
+    });
+    DepthCleanupOptions o;
+    o.speckle_px = 33;
+    Exec one, two;
+    one.nthreads = 1, two.nthreads = 2;
+    auto a = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), o, one);
+    auto b = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), o, two);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->stats.speckles, 2u);
+    EXPECT_NEAR(at(*a, 20, 63), true_depth(20, 63), 0.03 * true_depth(20, 63));
+    EXPECT_NEAR(at(*a, 20, 64), true_depth(20, 64), 0.03 * true_depth(20, 64));
+    for (int y = 12; y < 108; ++y) EXPECT_FLOAT_EQ(at(*a, 130, y), 1.2f) << "pole row " << y;
+    for (int y = 59; y < 69; ++y) EXPECT_FLOAT_EQ(at(*a, 41, y), 0.8f) << "blob row " << y;
+    ASSERT_EQ(a->depth.size(), b->depth.size());
+    EXPECT_EQ(0, std::memcmp(a->depth.data(), b->depth.data(), a->depth.size() * sizeof(float)));
 }
 
 TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
