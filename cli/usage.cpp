@@ -121,7 +121,8 @@ std::string usage_text() {
       << "       -o out.####.exr\n"
       << "  gdof in.exr --blurfield field.json --diffuse -o out.exr\n"
       << "  gdof deep.exr --layers 6 --solver explicit --diffuse -o out.exr\n"
-      << "  gdof deep.exr --blurfield field.json --psf-field swirl.json --vibrate -o out.exr\n"
+      << "  gdof deep.exr --blurfield field.json --psf-field swirl.json --vibrate \\\n"
+      << "       -o out.exr\n"
       << "\n"
       << wrap("Exit status: 0 success, 1 runtime error, 2 usage error, 130 interrupted (SIGINT, Ctrl-C), 143 "
               "terminated (SIGTERM).",
