@@ -6,8 +6,7 @@
 #include <cstdlib>
 #include <iostream>
 
-#include "command.h"
-#include "errors.h"
+#include "cli.h"
 
 namespace gdof::cli {
 
@@ -75,9 +74,35 @@ Step program_step(Step s) {
     return s;
 }
 
+// `gdof OPERATION --help`: the help of the nearest flag before --help (the
+// whole help without one). Looked for first, so that a flag still missing
+// its value (gdof --blurfield --help) does not make a usage error.
+bool print_help(const std::vector<std::string>& argv) {
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+        if (argv[i] != "--help" && argv[i] != "-h") continue;
+        for (std::size_t j = i; j-- > 0;) {
+            const std::string name = argv[j].substr(0, argv[j].rfind("--", 0) == 0 ? argv[j].find('=') : std::string::npos);
+            const Command* c = looks_like_flag(name) ? find_command(name) : nullptr;
+            if (c && c->kind != Kind::Immediate) {
+                std::cout << command_help_text(*c);
+                std::cout.flush();
+                return true;
+            }
+        }
+        std::cout << usage_text();
+        std::cout.flush();
+        return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 std::optional<Program> parse_args(const std::vector<std::string>& argv, int& exit_code) {
+    if (print_help(argv)) {
+        exit_code = kOk;
+        return std::nullopt;
+    }
     Program p;
     for (std::size_t i = 0; i < argv.size(); ++i) {
         if (!looks_like_flag(argv[i])) {

@@ -6,7 +6,7 @@
 //   structure.cpp order rules between steps (image on the stack, modifiers' commands, stack outputs)
 //   values.cpp    flag values: numbers parsed strictly
 //   errors.cpp    CliError, library statuses -> messages (naming the flag of a setting)
-//   usage.cpp     --help / --version / short usage
+//   usage.cpp     --help, OPERATION --help, --version, short usage (wrapped to the terminal)
 //   frames.cpp    --frames and #### / @ / %0Nd sequences: runs the program per frame
 //   run.cpp       runs one frame's steps: each step's row's runner, deferred --render / --composite
 //   ops/          one file per operation: its rows, value checks and runner (ops/ops.h lists them)
@@ -14,8 +14,8 @@
 //   camera_field.cpp  the camera and blur field of an image (shared by the methods); blur_state.h
 //   stack_output.cpp  writing a focus/aperture stack (-o after --lightfield or --render --stack)
 //   text_input.cpp    JSON files named by flags
-//   progress.cpp  progress bar, frame counter, --stats timers
-//   signals.cpp   Ctrl-C -> cancel flag
+//   progress.cpp  progress: one 0-100% scale per frame, a bar or log lines; --stats timers
+//   signals.cpp   SIGINT / SIGTERM -> cancel flag, exit 130 / 143
 //   main.cpp      session setup, error reporting and exit codes (the only file outside gdof_cli_lib)
 #pragma once
 
@@ -33,14 +33,17 @@ namespace gdof::cli {
 
 // Usage text (usage.cpp).
 std::string usage_text();        // --help
+std::string command_help_text(const Command& c);  // OPERATION --help
 std::string short_usage_text();  // no arguments
 std::string version_text();      // --version
 
-// Ctrl-C (signals.cpp).
+// SIGINT / SIGTERM (signals.cpp).
 void install_signal_handlers();
 bool interrupted();
-// Throws CliError(kInterrupted) if Ctrl-C was pressed.
+int interrupt_exit_code();  // 130 after SIGINT, 143 after SIGTERM
+// Throws CliError(130 / 143) if SIGINT / SIGTERM came.
 void check_interrupted();
+[[noreturn]] void throw_interrupted();
 
 // Checks every step's names against the session (colour spaces in the
 // config) before any work is done (run.cpp).

@@ -73,6 +73,8 @@ struct Command {
     bool allows_empty_value = false;  // "" is a value (--compression "": the image's own)
     StackUse stack = StackUse::None;
     bool is_work = false;  // something to do on its own (--info, --blurfield); so is any StackUse
+    bool progress_stage = false;  // reports progress: one slot of its frame's 0-100% (progress.h)
+    bool prints_result = false;   // its result is printed, not written (--info, --probe): needs no -o
 
     // What it does, by kind (exactly one is set):
     std::function<std::string()> print{};                    // Immediate: the text for stdout

@@ -9,7 +9,7 @@ namespace gdof::cli {
 
 void check(const Status& s, const std::string& context) {
     if (s) return;
-    if (interrupted()) throw CliError(kInterrupted, "interrupted");
+    check_interrupted();
     runtime_error(context.empty() ? s.message() : context + ": " + s.message());
 }
 

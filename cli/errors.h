@@ -10,7 +10,8 @@
 
 namespace gdof::cli {
 
-enum ExitCode : int { kOk = 0, kRuntimeError = 1, kUsageError = 2, kInterrupted = 130 };
+// 130 / 143: 128 + SIGINT / SIGTERM, as a shell reports a process those signals end.
+enum ExitCode : int { kOk = 0, kRuntimeError = 1, kUsageError = 2, kInterrupted = 130, kTerminated = 143 };
 
 struct CliError : std::runtime_error {
     int code;
@@ -20,7 +21,7 @@ struct CliError : std::runtime_error {
 [[noreturn]] inline void runtime_error(const std::string& what) { throw CliError(kRuntimeError, what); }
 
 // Throws a runtime error with the status message (and a context prefix) if it
-// failed; "interrupted" (exit 130) when Ctrl-C was pressed.
+// failed; "interrupted" (exit 130 / 143) after SIGINT / SIGTERM.
 void check(const Status& s, const std::string& context = {});
 template <class T>
 T take(Result<T>&& r, const std::string& context = {}) {

@@ -1,7 +1,9 @@
 // The frame-sequence driver: without a sequence the steps run once; with
 // --frames (or an input pattern such as in.####.exr, which then expands to
 // the frames on disk) every file name with a frame pattern is substituted
-// and the whole command line runs once per frame.
+// and the whole command line runs once per frame. Several frames written to
+// one name without a frame pattern is a usage error (each would overwrite
+// the last).
 #include <unistd.h>
 
 #include <iostream>
@@ -42,13 +44,37 @@ std::vector<int> choose_frames(const Program& p, bool& is_sequence) {
     return {};
 }
 
+// Every -o of a sequence of several frames needs a frame pattern.
+void check_output_patterns(const Program& p, std::size_t nframes) {
+    if (nframes < 2) return;
+    const std::string runs = p.global.frames.empty() ? std::to_string(nframes) + " frames of the input sequence"
+                                                     : std::to_string(nframes) + " frames (--frames " + p.global.frames + ")";
+    for (const Step& s : p.steps) {
+        if (s.is_input() || s.stack_output || s.name() != "-o") continue;
+        if (!io::has_frame_pattern(s.args[0]))
+            usage_error(s.flag + " '" + s.args[0] + "': " + runs +
+                        " would all be written to this one file; put a frame pattern in the name (####, @, %04d)");
+    }
+}
+
+int count_progress_stages(const Program& p) {
+    int n = 0;
+    for (const Step& s : p.steps)
+        if (!s.is_input() && s.def->progress_stage) ++n;
+    return n;
+}
+
 }  // namespace
 
 int run_program(Program& program, Session& session) {
     bool is_sequence = false;
     const std::vector<int> frames = choose_frames(program, is_sequence);
+    check_output_patterns(program, frames.size());
+    const int stages = count_progress_stages(program);
     if (!is_sequence) {
+        session.progress.begin_frame(std::nullopt, 0, 1, stages);
         run_steps(session, program.steps, std::nullopt);
+        session.progress.end_frame();
         session.stats.add_frame();
         return kOk;
     }
@@ -57,16 +83,19 @@ int run_program(Program& program, Session& session) {
     for (int i = 0; i < n; ++i) {
         check_interrupted();
         const int frame = frames[std::size_t(i)];
-        if (session.progress.enabled() || session.global.verbose)
+        if (!session.progress.enabled() && session.global.verbose)
             session.progress.message("frame " + std::to_string(i + 1) + "/" + std::to_string(n) + " (" +
                                      std::to_string(frame) + ")");
+        session.progress.begin_frame(frame, i, n, stages);
         try {
             run_steps(session, program.steps, frame);
+            session.progress.end_frame();
             session.stats.add_frame();
         } catch (const CliError& e) {
-            if (e.code == kInterrupted) throw;
+            if (e.code == kInterrupted || e.code == kTerminated) throw;
             const std::string msg = "frame " + std::to_string(frame) + ": " + e.what();
             if (!session.global.skip_bad_frames) throw CliError(e.code, msg);
+            session.progress.finish();
             std::cerr << "gdof: error: " << msg << "\n";
             ++failed;
         }

@@ -36,8 +36,9 @@ void setup_session(Session& s, const Program& p) {
         if (!r) runtime_error(r.message());
         s.colour = r.value();
     }
+    // A terminal gets a bar; a log (a farm, a pipe) whole lines, unless --no-progress.
     const bool tty = ::isatty(STDERR_FILENO) != 0;
-    s.progress.enable(!p.global.no_progress && (p.global.progress || tty));
+    s.progress.set_style(p.global.no_progress ? ProgressStyle::Off : tty ? ProgressStyle::Bar : ProgressStyle::Lines);
     s.exec.nthreads = p.global.threads;
     s.exec.cancelled = [] { return interrupted(); };
     Progress* progress = &s.progress;
@@ -70,15 +71,15 @@ int main(int argc, char** argv) {
         preflight(session, program->steps);
         code = run_program(*program, session);
     } catch (const CliError& e) {
-        session.progress.end();
+        session.progress.finish();
         print_error(e.what());
         code = e.code;
     } catch (const std::bad_alloc&) {
-        session.progress.end();
+        session.progress.finish();
         print_error("out of memory");
         code = kRuntimeError;
     } catch (const std::exception& e) {
-        session.progress.end();
+        session.progress.finish();
         print_error(std::string("unexpected: ") + e.what());
         code = kRuntimeError;
     }

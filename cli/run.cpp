@@ -1,6 +1,8 @@
 // Runs one frame's steps on the image stack: each step runs its row's
 // runner, after the deferred --render / --composite it does not let wait.
+// The frame's output files are checked first, before any work.
 #include "cli.h"
+#include "gdof/io/image_io.h"
 #include "gdof/io/sequence.h"
 #include "ops/ops.h"
 
@@ -8,6 +10,7 @@ namespace gdof::cli {
 
 Frame::Frame(Session& s, std::optional<int> frame_number) : session(&s), frame(frame_number) {
     output.colour = s.colour.get();
+    output.cancelled = [] { return interrupted(); };  // a signal during a write drops the file
 }
 
 StackEntry& Frame::top(const std::string& flag) {
@@ -36,9 +39,20 @@ void run_deferred(Frame& f, unsigned waiting) {
     if (!(waiting & kCompositeWaits)) run_pending_composite(f);
 }
 
+// A missing or read-only output folder fails now, not after the work.
+// (A stack's -o makes its folder.)
+void check_outputs(const std::vector<Step>& steps, std::optional<int> frame) {
+    for (const Step& s : steps) {
+        if (s.is_input() || s.stack_output || s.name() != "-o") continue;
+        const Step named = with_frame_number(s, *s.def, frame);
+        if (Status st = io::check_output_path(named.args[0]); !st) runtime_error(s.flag + " " + st.message());
+    }
+}
+
 }  // namespace
 
 void run_steps(Session& session, const std::vector<Step>& steps, std::optional<int> frame) {
+    check_outputs(steps, frame);
     Frame f(session, frame);
     for (const Step& step : steps) {
         check_interrupted();

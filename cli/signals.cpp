@@ -1,7 +1,11 @@
-// Ctrl-C: the first SIGINT (or SIGTERM) sets a flag that Exec::cancelled
-// reports, so long work stops at the next row/tile and no output is written.
-// The handler then reverts to the default, so a second Ctrl-C ends the
-// process at once.
+// SIGINT (Ctrl-C) and SIGTERM (what farm schedulers send): the first one
+// sets a flag that Exec::cancelled reports, so long work stops at the next
+// row/tile, a write in progress is abandoned before its rename and no output
+// is left; the exit status is 128 + the signal (130, 143). The handler then
+// reverts to the default, so a second signal ends the process at once (its
+// temporary file, if a write was running, is removed by the next run).
+// SIGXFSZ is ignored: a write over the file-size limit (ulimit -f) fails
+// with EFBIG and a clean error instead of killing the process.
 #include <csignal>
 
 #include "cli.h"
@@ -9,10 +13,10 @@
 namespace gdof::cli {
 
 namespace {
-volatile std::sig_atomic_t g_interrupted = 0;
+volatile std::sig_atomic_t g_signal = 0;
 
 extern "C" void on_signal(int sig) {
-    g_interrupted = 1;
+    g_signal = sig;
     std::signal(sig, SIG_DFL);
 }
 }  // namespace
@@ -23,12 +27,19 @@ void install_signal_handlers() {
         auto previous = std::signal(sig, on_signal);
         if (previous == SIG_IGN) std::signal(sig, SIG_IGN);
     }
+    std::signal(SIGXFSZ, SIG_IGN);
 }
 
-bool interrupted() { return g_interrupted != 0; }
+bool interrupted() { return g_signal != 0; }
+
+int interrupt_exit_code() { return g_signal == SIGTERM ? kTerminated : kInterrupted; }
+
+void throw_interrupted() {
+    throw CliError(interrupt_exit_code(), g_signal == SIGTERM ? "interrupted (SIGTERM)" : "interrupted (SIGINT)");
+}
 
 void check_interrupted() {
-    if (interrupted()) throw CliError(kInterrupted, "interrupted");
+    if (interrupted()) throw_interrupted();
 }
 
 }  // namespace gdof::cli

@@ -43,13 +43,16 @@ void mark_stack_outputs(Program& p) {
 }
 
 // The stack depth (from each row's StackUse), the modifiers' commands, and
-// that there is something to do.
+// that there is something to do and a result: an -o, or a command that
+// prints (a command line that writes nothing is a usage error).
 void validate_structure(const Program& p) {
     int depth = 0;
     bool pending_iscs = false;
     std::string pending_diffuse;  // a --diffuse modifier not yet followed by --diffuse
-    std::string pending_layers;   // --layers not yet followed by --diffuse or --bokeh
+    std::string pending_layers;   // --layers not yet followed by --diffuse, --bokeh or --vibrate
+    std::string pending_vibrate;  // --psf-field / --psf-samples not yet followed by --vibrate
     bool any_work = false;
+    bool any_result = false;  // an -o, or a command that prints its result
     bool composite = false;
     std::string composite_option;  // a --composite option (valid only with --composite)
     bool after_render = false;     // a --render not yet followed by -o: --aovs is its option
@@ -61,6 +64,7 @@ void validate_structure(const Program& p) {
             continue;
         }
         const Command& c = *s.def;
+        if (s.name() == "-o" || c.prints_result) any_result = true;
         if (c.stack == StackUse::NeedsImage && depth == 0)
             usage_error(s.flag + ": no image on the stack (give an input file before " + s.flag + ")");
         if (c.stack == StackUse::PushesImage) ++depth;
@@ -77,7 +81,9 @@ void validate_structure(const Program& p) {
         if (n == "--solver" || n == "--adi-steps" || n == "--pyramid") pending_diffuse = s.flag;
         if (n == "--layers") pending_layers = s.flag;
         if (n == "--diffuse") pending_diffuse.clear();
-        if (n == "--diffuse" || n == "--bokeh") pending_layers.clear();
+        if (n == "--diffuse" || n == "--bokeh" || n == "--vibrate") pending_layers.clear();
+        if (n == "--psf-field" || n == "--psf-samples") pending_vibrate = s.flag;
+        if (n == "--vibrate") pending_vibrate.clear();
     }
     if (!composite_option.empty() && !composite)
         usage_error(composite_option + ": only used with --composite (none given)");
@@ -86,7 +92,10 @@ void validate_structure(const Program& p) {
         usage_error(pending_diffuse + ": no --diffuse follows it (modifiers apply to the commands after them)");
     if (!pending_layers.empty())
         usage_error(pending_layers + ": no --diffuse or --bokeh follows it (modifiers apply to the commands after them)");
+    if (!pending_vibrate.empty())
+        usage_error(pending_vibrate + ": no --vibrate follows it (modifiers apply to the commands after them)");
     if (!any_work) usage_error("nothing to do: give an input file or a command");
+    if (!any_result) usage_error("no output: give -o FILE (or --info / --probe, which print their result)");
 }
 
 }  // namespace gdof::cli

@@ -46,6 +46,11 @@ hl="$root/examples/render/highlights.json"
 "$gdof" "$tmp/hl_deep.exr" --aperture polygon:6:15 --bokeh --ch R,G,B --mulc 0.5 -o "$img/bokeh_hexagon.png"
 "$gdof" "$tmp/hl_deep.exr" --aperture disc,squeeze=1.8,cats_eye=0.6 --bokeh --ch R,G,B --mulc 0.5 \
         -o "$img/bokeh_anamorphic_cats_eye.png"
+# Method 4 (--vibrate): the same deep render through the PSF field, the
+# thin-lens special case (defocus, disc) and a swirl (examples/psf_fields).
+"$gdof" "$tmp/hl_deep.exr" --psf-samples 128 --vibrate --ch R,G,B --mulc 0.5 -o "$img/psf_disc.png"
+"$gdof" "$tmp/hl_deep.exr" --psf-field "$root/examples/psf_fields/swirl.json" --psf-samples 128 --vibrate \
+        --ch R,G,B --mulc 0.5 -o "$img/psf_swirl.png"
 # Live action: a real RGB-D frame (TUM: colour PNG + uint16 depth PNG, metres =
 # counts / 5000, 19% holes), plate and depth map as two files, focus picked on
 # the yellow chair. Skipped when ../shared/data is absent.

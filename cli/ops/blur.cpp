@@ -14,12 +14,10 @@ namespace gdof::cli {
 
 namespace {
 
-// Reports the library's row progress on the CLI's bar, and stops on Ctrl-C.
+// Runs with the session's Exec (progress, SIGINT / SIGTERM) and reports a failure.
 void run_with_progress(Frame& f, const std::string& where, const std::function<Status(const Exec&)>& work) {
     Session& s = *f.session;
-    s.progress.begin("eval-blur");
     Status st = work(s.exec);
-    s.progress.end();
     check_interrupted();
     if (!st) runtime_error("--eval-blur: " + where + ": " + message_naming_flag(st));
 }
@@ -117,8 +115,10 @@ void do_eval_blur(Frame& f) {
 
     int evaluated = 0;
     std::vector<std::string> skipped;
+    s.progress.begin("eval-blur");
     for (std::size_t part = 0; part < top.images.size(); ++part) {
         const bool several = top.images.size() > 1;
+        s.progress.part(int(part), int(top.images.size()));
         if (top.images.is_deep(part)) {
             const std::string pwhere = several ? where + " part " + std::to_string(part) : where;
             if (eval_blur_deep(f, top.images.deep(part), pwhere, skipped)) ++evaluated;
@@ -148,7 +148,8 @@ std::vector<Command> blur_commands() {
                  .lets_wait = [](const Frame&, const Step&) -> unsigned { return kRenderWaits; }});
     t.push_back({.names = {"--eval-blur"}, .kind = Kind::Action, .group = B,
                  .help = "add a float channel 'blur' (CoC radius in output pixels) from P, or Z + camera",
-                 .stack = StackUse::NeedsImage, .run = [](Frame& f, const Step&) { do_eval_blur(f); }});
+                 .stack = StackUse::NeedsImage, .progress_stage = true,
+                 .run = [](Frame& f, const Step&) { do_eval_blur(f); }});
     return t;
 }
 

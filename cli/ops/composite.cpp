@@ -108,7 +108,6 @@ void run_composite(Frame& f) {
     CompositeStats stats;
     s.progress.begin("composite");
     auto r = composite(stack, focus, reader, cs, &stats, s.exec);
-    s.progress.end();
     check_interrupted();
     if (!r) {
         // The subject names the input at fault: the desired focus, or the stack (its near/far, its pixels).
@@ -192,6 +191,7 @@ std::vector<Command> composite_commands() {
                                });
     composite.kind = Kind::Action;
     composite.stack = StackUse::PushesImage;
+    composite.progress_stage = true;
     t.push_back(std::move(composite));
     t.push_back(option({"--surfaces"}, "FILE", "desired near/far focus surfaces (B-spline control grids, JSON)",
                        [](Frame& f, const Step& s) { f.composite.surfaces = s.args[0]; }));

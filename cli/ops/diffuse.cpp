@@ -4,18 +4,24 @@
 // the other channels of a flat input carried over. Modifiers before it:
 // --solver, --layers, --adi-steps (Frame::defocus), and the --eval-blur ones
 // (positions, depth channel and encoding, lens overrides).
+#include <filesystem>
+
 #include "camera_field.h"
 #include "cli.h"
 #include "gdof/defocus.h"
 #include "gdof/diffusion.h"
+#include "gdof/io/blur_field_io.h"
 #include "gdof/layers.h"
+#include "gdof/psf_field.h"
 #include "ops/ops.h"
 
 namespace gdof::cli {
 
 namespace {
 
-const char* op_flag(DefocusFilter filter) { return filter == DefocusFilter::Bokeh ? "--bokeh" : "--diffuse"; }
+const char* op_flag(DefocusFilter filter) {
+    return filter == DefocusFilter::Bokeh ? "--bokeh" : filter == DefocusFilter::Vibrate ? "--vibrate" : "--diffuse";
+}
 
 void report_defocus(Frame& f, const std::string& flag, const std::string& where, const DefocusStats& stats) {
     Session& s = *f.session;
@@ -29,9 +35,11 @@ void report_defocus(Frame& f, const std::string& flag, const std::string& where,
         std::string rep = stats.report();
         rep = rep.substr(rep.find('\n') + 1);
         if (!rep.empty() && rep.back() == '\n') rep.pop_back();
-        const std::string how = f.defocus.filter == DefocusFilter::Bokeh
-                                    ? "aperture " + format_aperture(f.defocus.aperture)
-                                    : "solver " + std::string(to_string(f.defocus.diffusion.solver));
+        const std::string how =
+            f.defocus.filter == DefocusFilter::Bokeh ? "aperture " + format_aperture(f.defocus.aperture)
+            : f.defocus.filter == DefocusFilter::Vibrate
+                ? "psf field " + f.defocus.psf_field.describe() + ", aperture " + format_aperture(f.defocus.aperture)
+                : "solver " + std::string(to_string(f.defocus.diffusion.solver));
         s.progress.message("gdof: " + flag + " " + where + (f.frame ? " frame " + std::to_string(*f.frame) : "") +
                            " (" + how + "):\n" + rep);
     }
@@ -51,9 +59,7 @@ ImageSet diffuse_view(Frame& f, const ImageSet& images, const std::string& where
     Result<ImageSet> result = ImageSet{};
     {
         StageTimer timer(s.stats, flag.substr(2));
-        s.progress.begin(flag.substr(2));
         result = defocus(images, field, camera, options, &stats, s.exec);
-        s.progress.end();
     }
     check_interrupted();
     if (!result) runtime_error(flag + ": " + where + ": " + message_naming_flag(result.status()));
@@ -74,12 +80,15 @@ void do_defocus(Frame& f, DefocusFilter filter) {
     // A stereo / multi-view file: every view, one output part each (--view
     // picks one).
     const std::vector<std::string> views = part_views(top.images);
+    f.session->progress.begin(flag.substr(2));
     if (views.size() <= 1) {
         top.images = diffuse_view(f, top.images, where);
         return;
     }
     ImageSet out;
-    for (const std::string& v : views) {
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        const std::string& v = views[i];
+        f.session->progress.part(int(i), int(views.size()));
         auto sub = select_view(top.images, v);
         if (!sub) runtime_error(flag + ": " + where + ": " + sub.message());
         ImageSet r = diffuse_view(f, *sub, where + " view '" + v + "'");
@@ -110,6 +119,23 @@ int adi_steps(const Step& s) {
     return k;
 }
 
+int psf_samples(const Step& s) {
+    const int k = parse_int(s.flag, s.args[0]);
+    if (k < 0 || k > 65536) usage_error(s.flag + ": expected 0 (automatic) to 65536, got '" + s.args[0] + "'");
+    return k;
+}
+
+// --psf-field FILE: the PSF field's JSON (docs/psf_field.md); its blend
+// weights' image_maps are read relative to the file, as data.
+void psf_field(Frame& f, const std::string& path) {
+    const std::string text = read_flag_file("--psf-field", "file", path);
+    std::error_code ec;
+    const std::string dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
+    auto r = PsfField::parse(text, io::blur_field_context(dir));
+    if (!r) runtime_error("--psf-field '" + path + "': " + r.message());
+    f.defocus.psf_field = std::move(r).value();
+}
+
 bool pyramid(const Step& s) {
     if (s.args[0] == "on") return true;
     if (s.args[0] == "off") return false;
@@ -121,17 +147,32 @@ bool pyramid(const Step& s) {
 std::vector<Command> diffuse_commands() {
     const std::string D = "Defocus by heat diffusion (method 3)";
     std::vector<Command> t;
-    t.push_back({.names = {"--diffuse"}, .kind = Kind::Action, .group = D,
-                 .help = "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
-                         "(default: the camera's thin lens) and composited",
-                 .stack = StackUse::NeedsImage,
-                 .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Diffusion); }});
-    t.push_back({.names = {"--bokeh"}, .kind = Kind::Action, .group = D,
-                 .help = "defocus the top image as --diffuse does (same layers, blur field, extrapolation, "
-                         "compositing), each layer spread over the --aperture shape (default disc): bokeh that "
-                         "respects visibility",
-                 .stack = StackUse::NeedsImage,
-                 .run = [](Frame& f, const Step&) { do_defocus(f, DefocusFilter::Bokeh); }});
+    // The three actions run one pipeline with a different filter.
+    auto action = [&](const char* name, DefocusFilter filter, const char* help) {
+        Command c{.names = {name}, .kind = Kind::Action, .group = D, .help = help, .stack = StackUse::NeedsImage,
+                  .progress_stage = true};
+        c.run = [filter](Frame& f, const Step&) { do_defocus(f, filter); };
+        t.push_back(std::move(c));
+    };
+    action("--diffuse", DefocusFilter::Diffusion,
+           "defocus the top image: layers (deep, multipart, or RGBA + Z/P) blurred per the blur field "
+           "(default: the camera's thin lens) and composited");
+    action("--bokeh", DefocusFilter::Bokeh,
+           "defocus the top image as --diffuse does (same layers, blur field, extrapolation, "
+           "compositing), each layer spread over the --aperture shape (default disc): bokeh that "
+           "respects visibility");
+    action("--vibrate", DefocusFilter::Vibrate,
+           "method 4, the generalized PSF field: the layers of --diffuse moved per aperture sample by "
+           "the --psf-field displacement (default: defocus, B(x) times the --aperture sample), "
+           "composited with visibility and averaged");
+    t.push_back({.names = {"--psf-field"}, .args = "FILE", .kind = Kind::Modifier, .group = D,
+                 .help = "the PSF field JSON for --vibrate: defocus, swirl, depth, sum, blend (docs/psf_field.md)",
+                 .run = [](Frame& f, const Step& s) { psf_field(f, s.args[0]); }});
+    t.push_back({.names = {"--psf-samples"}, .args = "N", .kind = Kind::Modifier, .group = D,
+                 .help = "aperture samples for --vibrate (default 0: the field's \"samples\", else automatic from the "
+                         "largest displacement)",
+                 .run = [](Frame& f, const Step& s) { f.defocus.vibrate.samples = psf_samples(s); },
+                 .check = [](const Step& s) { psf_samples(s); }});
     t.push_back({.names = {"--solver"}, .args = "NAME", .kind = Kind::Modifier, .group = D,
                  .help = "diffusion solver: auto (default: per layer, explicit up to about 15 px of blur, else adi), adi "
                          "(cost independent of the blur) or explicit (the paper's reference)",

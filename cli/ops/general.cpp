@@ -22,9 +22,9 @@ std::vector<Command> general_commands() {
                      if (g.threads < 0) usage_error("--threads: expected 0 (all cores) or more, got '" + s.args[0] + "'");
                  }});
     t.push_back({.names = {"--progress"}, .kind = Kind::Global, .group = G,
-                 .help = "show progress on stderr even when it is not a terminal",
+                 .help = "show progress on stderr (the default): a bar on a terminal, else lines 'gdof: progress [frame F (I/N)] STAGE P%'",
                  .set = [](GlobalOptions& g, const Step&) { g.progress = true, g.no_progress = false; }});
-    t.push_back({.names = {"--no-progress"}, .kind = Kind::Global, .group = G, .help = "never show progress",
+    t.push_back({.names = {"--no-progress"}, .kind = Kind::Global, .group = G, .help = "show no progress",
                  .set = [](GlobalOptions& g, const Step&) { g.no_progress = true, g.progress = false; }});
     t.push_back({.names = {"--stats"}, .kind = Kind::Global, .group = G,
                  .help = "print the time spent per stage on stderr at the end",

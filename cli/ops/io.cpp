@@ -136,6 +136,7 @@ std::vector<Command> io_commands() {
                  .run = [](Frame& f, const Step& s) { f.output.compression = s.args[0]; }});
     t.push_back({.names = {"--info"}, .kind = Kind::Action, .group = O,
                  .help = "describe the top image, or (before any input) each input file", .is_work = true,
+                 .prints_result = true,
                  .run = [](Frame& f, const Step&) { do_info(f); }});
     return t;
 }

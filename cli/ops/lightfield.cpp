@@ -46,9 +46,9 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     LightField lf;
     {
         StageTimer t(s.stats, "read views");
-        s.progress.begin("lightfield: reading views");
+        s.progress.begin("lightfield");
+        s.progress.part(0, 2);  // reading the views, then extracting the stack
         auto r = io::load_lightfield(source, config, ro, s.exec);
-        s.progress.end();
         check_interrupted();
         lf = take(std::move(r), "--lightfield");
     }
@@ -70,22 +70,19 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
                fmt("%g", r.focus_disparity) + ", aperture " + fmt("%g", r.aperture_radius_views) + ")";
     };
     auto sink = [&](std::size_t i, Image&& image) -> Status {
-        s.progress.end();
         const auto t0 = std::chrono::steady_clock::now();
         Status st = out.write(i, std::move(image));
         t_write += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (!st) return st;
         view_pixels += double(lf.aperture_views(planned.references[i].aperture_radius_views)) * double(central.npixels());
         if (s.progress.enabled() || s.global.verbose) s.progress.message("gdof: " + label(i) + " -> " + out.name(i));
-        if (i + 1 < n) s.progress.begin("lightfield " + label(i + 1));
         return {};
     };
     Result<ExtractedStack> result = ExtractedStack{};
     const auto t0 = std::chrono::steady_clock::now();
     {
-        s.progress.begin("lightfield " + label(0));
+        s.progress.part(1, 2);
         result = extract_stack(lf, spec, sink, s.exec);
-        s.progress.end();
     }
     const double t_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     check_interrupted();
@@ -113,7 +110,7 @@ std::vector<Command> lightfield_commands() {
     t.push_back({.names = {"--lightfield"}, .args = "PATTERN|FOLDER", .kind = Kind::Action, .group = L,
                  .help = "light-field views, e.g. 'views/2067_%02d_%02d.png' (row, column) or a Stanford-archive folder; "
                          "the next -o (with ####) writes one refocused image per --stack reference and manifest.json",
-                 .stack = StackUse::PushesImage,
+                 .stack = StackUse::PushesImage, .progress_stage = true,
                  .run = [](Frame& f, const Step& s) { f.lightfield.source = s.args[0]; }});
     t.push_back({.names = {"--lf"}, .args = "FILE", .kind = Kind::Modifier, .group = L,
                  .help = "light-field geometry JSON for --lightfield (disparity_at_infinity, ...)", .file_args = {0},

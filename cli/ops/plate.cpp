@@ -141,7 +141,7 @@ std::vector<Command> plate_commands() {
                  .check = [](const Step& s) { pixel(s); }});
     t.push_back({.names = {"--probe"}, .args = "X,Y", .kind = Kind::Action, .group = P,
                  .help = "print depth, world position and blur radius at pixel X,Y of the top image",
-                 .stack = StackUse::NeedsImage, .is_work = true, .run = do_probe,
+                 .stack = StackUse::NeedsImage, .is_work = true, .prints_result = true, .run = do_probe,
                  .check = [](const Step& s) { pixel(s); }});
     return t;
 }

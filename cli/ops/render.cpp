@@ -46,7 +46,6 @@ void run_render(Frame& f) {
             if (img) e.images.parts.emplace_back(std::move(img).value());
             st = img.status();
         }
-        s.progress.end();
     }
     check_interrupted();
     if (!st) runtime_error("--render '" + scene_path + "': " + message_naming_flag(st));
@@ -97,6 +96,7 @@ std::vector<Command> render_commands() {
     render.kind = Kind::Action;
     render.file_args = {0};
     render.stack = StackUse::PushesImage;
+    render.progress_stage = true;
     t.push_back(std::move(render));
     t.push_back(option({"--spp"}, "N", "--render: aperture samples per pixel, the cap (default 64)",
                        [](Frame& f, const Step& s) { f.render.options.spp = count(s); }));

@@ -38,22 +38,19 @@ void do_render_stack_output(Frame& f, const std::string& pattern) {
     };
     double t_write = 0;
     auto sink = [&](std::size_t i, Image&& image) -> Status {
-        s.progress.end();
         const auto t0 = std::chrono::steady_clock::now();
         Status st = out.write(i, std::move(image));
         t_write += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (st && (s.progress.enabled() || s.global.verbose)) s.progress.message("gdof: " + label(i) + " -> " + out.name(i));
-        if (st && i + 1 < n) s.progress.begin("render " + label(i + 1));
         return st;
     };
     RenderStats stats;
     Status st;
     const auto t0 = std::chrono::steady_clock::now();
-    s.progress.begin("render " + label(0));
+    s.progress.begin("render");
     RenderOptions options = o.options;
     if (!o.aperture_given) options.aperture = with_kernel_image(f, scene.aperture, "'" + scene_path + "': camera.aperture");
     st = render_stack(*tracer, plan, options, sink, &stats, s.exec);
-    s.progress.end();
     s.stats.add("render", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - t_write);
     s.stats.add("write", t_write);
     check_interrupted();

@@ -5,6 +5,8 @@
 //   diffusion      adi / explicit on the renderer's deep output and on its
 //                  flat image + Z (the live-action path), several layer counts
 //   bokeh          the same pipeline with the bokeh filter (disc): deep, flat + Z, degraded Z
+//   vibrate        method 4, the PSF field's `defocus` kind (disc) on the same layers: deep and
+//                  flat + Z, 16..256 aperture samples and automatic (640x360 only)
 //   compositing    stacks of 4..48 ray-traced references, hard pick / soft 3
 //   gaussian       cv::GaussianBlur per depth slice (the naive baseline)
 // Every result is compared with the ground truth (PSNR, relative L1 / L2,
@@ -13,7 +15,7 @@
 // stacks), as a compositor receives them; they are the best of 2 runs.
 //
 //   bench_methods --out DIR --cache DIR [--full] [--prepare] [--scenes a,b]
-//                 [--fields a,b] [--methods raytrace,diffusion,bokeh,compositing,gaussian]
+//                 [--fields a,b] [--methods raytrace,diffusion,bokeh,vibrate,compositing,gaussian]
 //                 [--sizes 640x360,1920x1080]
 //
 // --full adds 1920x1080 (ground truth 256 spp, inputs at 256 spp, a 24
@@ -65,7 +67,7 @@ struct Options {
     std::string out = "bench_out", cache = "bench_cache";
     bool full = false, prepare = false;
     std::vector<std::string> scenes{"generated", "cornell"}, fields{"thin_lens", "two_planes", "region"};
-    std::vector<std::string> methods{"raytrace", "diffusion", "bokeh", "compositing", "gaussian"};
+    std::vector<std::string> methods{"raytrace", "diffusion", "bokeh", "vibrate", "compositing", "gaussian"};
     std::vector<std::string> sizes;  // "WxH" (640x360, 1920x1080); empty: by --full
     bool runs(const std::string& m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
 };
@@ -396,6 +398,24 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
                 best["diffusion auto (deep)"] = bench::rgba_over(result.flat(0), frame);
             if (d.input != "deep" && d.layers == "auto")
                 best["diffusion auto (" + d.input + ")"] = bench::rgba_over(result.flat(0), frame);
+        }
+
+        // Method 4: the PSF field's thin-lens special case (`defocus`, disc)
+        // against sample count; at 640x360 only (its cost grows with the
+        // samples times every layer's pixels).
+        for (const std::string input : {"deep", "flat+Z"}) {
+            if (big || !opt.runs("vibrate")) continue;
+            for (int n : {16, 64, 256, 0}) {
+                DefocusOptions ds;
+                ds.filter = DefocusFilter::Vibrate;
+                ds.vibrate.samples = n;
+                const ImageSet* src = input == "deep" ? &deep_set : &flat_set;
+                ImageSet result;
+                DefocusStats st;
+                const double secs = best_time(reps, [&] { result = take(defocus(*src, field, cam, ds, &st), "vibrate"); });
+                row("vibrate (" + input + ")", "samples=" + (n ? std::to_string(n) : "auto:" + std::to_string(st.vibrate.samples)),
+                    secs, result.flat(0));
+            }
         }
 
         // Compositing (method 2): desired near/far from the field and the pinhole Z.

@@ -100,6 +100,18 @@ inline bool bit_identical(const Image& a, const Image& b) {
     return true;
 }
 
+// Coverage at distance d from the centre of an opaque disc of radius a
+// blurred by a uniform disc kernel of radius R: the overlap area of the two
+// circles over the kernel's area.
+inline double blurred_disc_coverage(double d, double a, double R) {
+    if (d >= a + R) return 0.0;
+    if (d <= std::abs(a - R)) return a >= R ? 1.0 : (a * a) / (R * R);
+    const double r2 = R * R, a2 = a * a, d2 = d * d;
+    const double p = r2 * std::acos((d2 + r2 - a2) / (2 * d * R)) + a2 * std::acos((d2 + a2 - r2) / (2 * d * a)) -
+                     0.5 * std::sqrt((-d + R + a) * (d + R - a) * (d - R + a) * (d + R + a));
+    return p / (3.14159265358979323846 * r2);
+}
+
 // Deterministic smooth-ish texture in [0, 1].
 inline float texture(int x, int y, int c) {
     return float(0.5 + 0.25 * std::sin(0.37 * x + 1.3 * c) * std::cos(0.23 * y - 0.7 * c) +

@@ -22,6 +22,7 @@
 #include "gdof/image_set.h"
 #include "gdof/layers.h"
 #include "gdof/plate.h"
+#include "gdof/psf_field.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -29,12 +30,17 @@ namespace gdof {
 // What blurs each layer: the heat equation (Gaussian point-spread function,
 // diffusion.h) or the bokeh filter (the aperture's shape, bokeh.h). Both run
 // in the same pipeline: layers, extrapolated radii, back-to-front `over`.
-enum class DefocusFilter { Diffusion, Bokeh };
-GDOF_API const char* to_string(DefocusFilter f);  // "diffusion", "bokeh"
+// Or, with Vibrate, not a filter per layer but method 4, the generalized PSF
+// field (psf_field.h): the layers moved per aperture sample and composited
+// with visibility, the samples averaged.
+enum class DefocusFilter { Diffusion, Bokeh, Vibrate };
+GDOF_API const char* to_string(DefocusFilter f);  // "diffusion", "bokeh", "vibrate"
 
 struct DefocusOptions {
     DefocusFilter filter = DefocusFilter::Diffusion;
-    Aperture aperture;       // the bokeh filter's point-spread function (disc by default)
+    Aperture aperture;       // the bokeh filter's point-spread function, vibrate's sample domain (disc by default)
+    PsfField psf_field;      // Vibrate: the displacement field (default: defocus, B(x) * u)
+    VibrateOptions vibrate;  // Vibrate: sample count, seed, prefilter
     DiffusionOptions diffusion;
     LayerSplit split;        // deep and RGBA + depth inputs
     PositionSource source;   // position / depth channels and depth encoding
@@ -58,7 +64,9 @@ struct GDOF_API DefocusStats {
     int layers_sharp = 0;      // largest blur 0: passed through untouched
     int layers_explicit = 0, layers_adi = 0;  // diffused layers by the solver that ran
     int layers_bokeh = 0;      // layers spread by the bokeh filter
-    int layers_pyramid = 0;    // diffused layers solved on pyramid levels (DiffusionOptions::pyramid)
+    int layers_pyramid = 0;
+    int layers_vibrated = 0;   // non-empty layers moved by the PSF field (Vibrate)
+    VibrateStats vibrate;      // Vibrate: samples, largest displacement, splats    // diffused layers solved on pyramid levels (DiffusionOptions::pyramid)
     std::size_t pixels_diffused = 0;  // summed over layers (work-region pixels)
     std::size_t pixels_skipped = 0;   // layer pixels outside any work region / in sharp layers
     double max_radius_px = 0.0;

@@ -53,23 +53,12 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
     return s;
 }
 
-Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
-                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats) {
+std::vector<float> extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
+                                       const Roi& work, const Exec& exec) {
     const Image& img = layer.image;
     const Roi win = img.data_window();
     const int W = work.width(), H = work.height();
-    const std::size_t n = work.npixels();
-    out.work = work;
-    out.rgba = Image::with_channels({"R", "G", "B", "A"}, work);
-    if (n == 0) return Status::ok();
-    const Roi overlap = intersect(win, work);
-
-    // Radii over the extrapolation region: known pixels copied, the rest
-    // filled by push-pull; then cropped to the work region (the region's
-    // buffers released before the solve needs its own).
-    auto t0 = std::chrono::steady_clock::now();
-    std::vector<float> radius(n);
+    std::vector<float> radius(work.npixels());
     {
         const Roi ext = unite(extrapolation, work);
         const int EW = ext.width();
@@ -100,6 +89,24 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                 }
         }, 16);
     }
+    return radius;
+}
+
+Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
+                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
+                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats) {
+    const Image& img = layer.image;
+    const Roi win = img.data_window();
+    const int W = work.width();
+    const std::size_t n = work.npixels();
+    out.work = work;
+    out.rgba = Image::with_channels({"R", "G", "B", "A"}, work);
+    if (n == 0) return Status::ok();
+    const Roi overlap = intersect(win, work);
+
+    // Radii over the extrapolation region, cropped to the work region.
+    auto t0 = std::chrono::steady_clock::now();
+    std::vector<float> radius = extrapolated_radius(layer, analysis, extrapolation, work, exec);
     stats.t_extrapolate += seconds_since(t0);
 
     // Colour and coverage, zero-padded.

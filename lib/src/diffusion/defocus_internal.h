@@ -75,6 +75,17 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                      const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
                      const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats);
 
+// The layer's radii over `work`: its known radii, extrapolated by push-pull
+// over `extrapolation` (∪ work) beyond its coverage, clamped to [0, largest].
+std::vector<float> extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
+                                       const Roi& work, const Exec& exec);
+
+// Method 4 for defocus_layers: every layer made and analysed, its radii
+// extrapolated over the frame, then vibrate_layers (psf_field.h) over the
+// frame, cropped to settings.roi when one is given.
+Result<Image> defocus_vibrate(const LayerSource& source, const BlurField& field, const Camera& camera,
+                              const DefocusOptions& settings, DefocusStats& stats, const Exec& exec);
+
 // Margin of a layer's work region around its content. The bokeh filter
 // takes 2R + 2 (more than the aperture's reach R + 1) so that the spread
 // weight it normalises by is complete wherever the layer's light lands.

@@ -40,7 +40,7 @@ Status validate(const DefocusOptions& s) {
         return Status::error("defocus: adi_steps must be in 0..1000 (0: automatic), got " + std::to_string(d.adi_steps));
     if (!(d.explicit_safety >= 1.0) || d.explicit_safety > 100.0)
         return Status::error("defocus: explicit_safety must be in 1..100, got " + std::to_string(d.explicit_safety));
-    if (s.filter == DefocusFilter::Bokeh)
+    if (s.filter != DefocusFilter::Diffusion)
         if (Status st = validate(s.aperture); !st) return st;
     if (s.roi.x1 < s.roi.x0 || s.roi.y1 < s.roi.y0)
         return Status::error("defocus: roi " + to_string(s.roi) + " is inverted");
@@ -241,6 +241,11 @@ Result<Image> defocus_layers(const LayerSource& source, const BlurField& field, 
         bokeh = std::move(f).value();
     }
     const BokehFilter* b = bokeh ? &*bokeh : nullptr;
+    if (settings.filter == DefocusFilter::Vibrate) {
+        auto out = defocus_vibrate(source, field, camera, settings, S, exec);
+        if (out) exec.report(1.0);
+        return out;
+    }
     auto out = settings.roi.empty() ? defocus_streamed(source, field, camera, settings, b, S, exec)
                                     : defocus_region(source, field, camera, settings, b, S, exec);
     if (out) exec.report(1.0);
@@ -252,6 +257,12 @@ Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& 
     return defocus_layers(*source_of(layers), field, camera, settings, stats, exec);
 }
 
-const char* to_string(DefocusFilter f) { return f == DefocusFilter::Bokeh ? "bokeh" : "diffusion"; }
+const char* to_string(DefocusFilter f) {
+    switch (f) {
+        case DefocusFilter::Bokeh: return "bokeh";
+        case DefocusFilter::Vibrate: return "vibrate";
+        default: return "diffusion";
+    }
+}
 
 }  // namespace gdof

@@ -11,7 +11,11 @@ std::string DefocusStats::report() const {
     o << "defocus:\n";
     o << "  layers            " << layers << " (" << layers_empty << " empty, " << layers_sharp << " sharp, "
       << (layers - layers_empty - layers_sharp) << (layers_bokeh ? " spread)\n" : " diffused)\n");
-    if (layers_bokeh) o << "  filter            bokeh (" << layers_bokeh << " layers)\n";
+    if (layers_vibrated)
+        o << "  psf field         " << layers_vibrated << " layers moved, " << vibrate.samples
+          << " aperture samples, largest displacement " << std::fixed << std::setprecision(2)
+          << vibrate.max_displacement_px << " px, " << vibrate.splats << " splats\n";
+    else if (layers_bokeh) o << "  filter            bokeh (" << layers_bokeh << " layers)\n";
     else o << "  solver            " << layers_explicit << " explicit, " << layers_adi << " adi"
            << (layers_pyramid ? ", " + std::to_string(layers_pyramid) + " on the pyramid" : std::string()) << "\n";
     o << std::fixed << std::setprecision(2);
@@ -21,7 +25,7 @@ std::string DefocusStats::report() const {
     if (depth.pixels) o << "  " << depth.report() << "\n";
     o << std::setprecision(3);
     const std::pair<const char*, double> stages[] = {{"layers", t_layers},       {"blur map", t_blur},
-                                                     {"extrapolate", t_extrapolate}, {layers_bokeh ? "spread" : "diffuse", t_diffuse},
+                                                     {"extrapolate", t_extrapolate}, {layers_vibrated ? "vibrate" : layers_bokeh ? "spread" : "diffuse", t_diffuse},
                                                      {"composite", t_composite}};
     for (const auto& [name, t] : stages) o << "  " << std::left << std::setw(18) << (std::string("t ") + name) << std::right
                                            << std::setw(8) << t << " s\n";

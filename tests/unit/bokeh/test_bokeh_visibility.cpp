@@ -24,18 +24,6 @@ DefocusOptions bokeh(Aperture ap = {}) {
     return d;
 }
 
-// Coverage at distance d from the centre of an opaque disc of radius a
-// blurred by a uniform disc kernel of radius R: the overlap area of the two
-// circles over the kernel's area.
-double blurred_disc_coverage(double d, double a, double R) {
-    if (d >= a + R) return 0.0;
-    if (d <= std::abs(a - R)) return a >= R ? 1.0 : (a * a) / (R * R);
-    const double r2 = R * R, a2 = a * a, d2 = d * d;
-    const double p = r2 * std::acos((d2 + r2 - a2) / (2 * d * R)) + a2 * std::acos((d2 + a2 - r2) / (2 * d * a)) -
-                     0.5 * std::sqrt((-d + R + a) * (d + R - a) * (d - R + a) * (d + R + a));
-    return p / (std::numbers::pi * r2);
-}
-
 }  // namespace
 
 TEST(bokeh, BlurredInteriorHasNoHoles_Figure6) {

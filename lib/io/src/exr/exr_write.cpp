@@ -2,6 +2,7 @@
 // or tiled per StorageHints, channel types kept, all metadata attributes.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include <Imath/half.h>
@@ -21,6 +22,7 @@
 #include "exr/exr_attributes.h"
 #include "exr/exr_common.h"
 #include "exr/exr_io.h"
+#include "exr/exr_ostream.h"
 #include "files/files.h"
 
 namespace gdof::io::detail {
@@ -222,6 +224,8 @@ std::vector<PartRef> part_refs(const ImageSet& images) {
 
 Status write_exr(const std::string& file, const std::string& display, const std::vector<PartRef>& images,
                  const WriteOptions& opts) {
+    // The stream outlives the OpenEXR file, whose destructor still writes.
+    std::optional<CheckedOStream> stream;
     try {
         ensure_exr_setup();
         const std::size_t n = images.size();
@@ -246,17 +250,24 @@ Status write_exr(const std::string& file, const std::string& display, const std:
                 headers.back().setName(name);
             }
         }
-        Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(n), false, exr_thread_count());
-        for (std::size_t i = 0; i < n; ++i) {
-            if (plans[i].deep) write_deep(out, int(i), *std::get<const DeepImage*>(images[i]), plans[i]);
-            else write_flat(out, int(i), *std::get<const Image*>(images[i]), plans[i]);
+        stream.emplace(file, display);
+        {
+            Imf::MultiPartOutputFile out(*stream, headers.data(), int(n), false, exr_thread_count());
+            for (std::size_t i = 0; i < n; ++i) {
+                if (plans[i].deep) write_deep(out, int(i), *std::get<const DeepImage*>(images[i]), plans[i]);
+                else write_flat(out, int(i), *std::get<const Image*>(images[i]), plans[i]);
+            }
         }
+        if (std::string e = stream->finish(); !e.empty()) return Status::error(e, StatusCode::Io);
         return Status::ok();
     } catch (const WriteError& e) {
         return Status::error(e.message);
     } catch (const std::bad_alloc&) {
         return Status::error(quoted(display) + ": cannot write (out of memory)");
     } catch (const std::exception& e) {
+        // A file-system error (full disk, file too large) says so itself.
+        if (stream)
+            if (std::string se = stream->finish(); !se.empty()) return Status::error(se, StatusCode::Io);
         return Status::error(quoted(display) + ": cannot write (OpenEXR: " + std::string(e.what()) + ")");
     } catch (...) {
         return Status::error(quoted(display) + ": cannot write (unknown OpenEXR error)");

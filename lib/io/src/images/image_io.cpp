@@ -85,15 +85,16 @@ Status write_image(const std::string& path, const ImageSet& images, const WriteO
     if (images.empty()) return Status::error(quoted(path) + ": nothing to write (no image)");
     const std::string ext = extension_lower(path);
     if (ext == "exr")
-        return atomic_write(path,
-                            [&](const std::string& tmp) { return write_exr(tmp, path, part_refs(images), opts); });
+        return atomic_write(
+            path, [&](const std::string& tmp) { return write_exr(tmp, path, part_refs(images), opts); }, opts.cancelled);
 
     if (images.size() > 1)
         return Status::error(quoted(path) + ": " + std::to_string(images.size()) +
                              " parts can only be written to an OpenEXR (.exr) file");
     if (images.is_deep(0))
         return Status::error(quoted(path) + ": deep images can only be written to an OpenEXR (.exr) file");
-    return atomic_write(path, [&](const std::string& tmp) { return write_oiio(tmp, path, images.flat(0), opts); });
+    return atomic_write(
+        path, [&](const std::string& tmp) { return write_oiio(tmp, path, images.flat(0), opts); }, opts.cancelled);
 }
 
 Result<Image> read_flat(const std::string& path, const ReadOptions& opts) {
@@ -110,10 +111,14 @@ Status write_flat(const std::string& path, const Image& image, const WriteOption
     if (path.empty()) return Status::error("no output file name given");
     if (extension_lower(path) == "exr") {
         std::vector<PartRef> refs{PartRef(&image)};
-        return atomic_write(path, [&](const std::string& tmp) { return write_exr(tmp, path, refs, opts); });
+        return atomic_write(
+            path, [&](const std::string& tmp) { return write_exr(tmp, path, refs, opts); }, opts.cancelled);
     }
-    return atomic_write(path, [&](const std::string& tmp) { return write_oiio(tmp, path, image, opts); });
+    return atomic_write(
+        path, [&](const std::string& tmp) { return write_oiio(tmp, path, image, opts); }, opts.cancelled);
 }
+
+Status check_output_path(const std::string& path) { return check_target(path); }
 
 Status write_text(const std::string& path, const std::string& text) {
     return detail::atomic_write(path, [&](const std::string& tmp) -> Status {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include "oiio/oiio_io.h"
@@ -192,9 +193,17 @@ OIIO::ImageSpec make_spec(const Image& image, const ChannelChoice& ch, const Roi
     return spec;
 }
 
-// Opens the file and writes the pixels: integers clamped and quantised, floats as they are.
+// Opens the file and writes the pixels: integers clamped and quantised,
+// floats as they are. The encoded file is made in memory and written with
+// every error checked (write_file): OIIO's writers miss some (a PNG on a
+// full disk reports success), which would rename a truncated file into place.
+// Not TIFF: OIIO 2.4 writes unreadable TIFFs to memory; libtiff reports its
+// write errors itself.
 Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO::ImageSpec& spec, const Image& work,
                     const std::string& display) {
+    OIIO::Filesystem::IOVecOutput memory;
+    const bool in_memory =
+        std::string(out.format_name()) != "tiff" && out.supports("ioproxy") && out.set_ioproxy(&memory);
     if (!out.open(file, spec)) {
         std::string e = out.geterror();
         clear_oiio_error();
@@ -215,6 +224,7 @@ Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO:
     std::string e = out.geterror();
     clear_oiio_error();
     if (!ok) return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
+    if (in_memory) return write_file(file, display, memory.buffer().data(), memory.buffer().size());
     return Status::ok();
 }
 

@@ -46,6 +46,11 @@ GDOF_API Status write_image(const std::string& path, const ImageSet& images, con
 GDOF_API Result<Image> read_flat(const std::string& path, const ReadOptions& opts = {});
 GDOF_API Status write_flat(const std::string& path, const Image& image, const WriteOptions& opts = {});
 
+// That an output file can be written, before the work that makes it: its
+// folder exists and is writable and the name is not a folder. write_image
+// checks the same; this lets a caller fail before a long computation.
+GDOF_API Status check_output_path(const std::string& path);
+
 // A text file (a stack manifest, JSON) written atomically like the images:
 // a temporary file beside the target, renamed over it on success.
 GDOF_API Status write_text(const std::string& path, const std::string& text);

@@ -2,6 +2,7 @@
 // colour conversion at the edges, storage types and compression.
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace gdof::io {
@@ -30,6 +31,9 @@ struct WriteOptions {
     // "" means sRGB for those formats and linear (no conversion) for EXR.
     std::string colorspace;
     const ColourConfig* colour = nullptr;
+    // Polled once the temporary file is complete: true drops it instead of
+    // renaming it over the target (a signal came during the write).
+    std::function<bool()> cancelled;
 };
 
 }  // namespace gdof::io
