@@ -86,7 +86,9 @@ TEST(background_owners, UnboundedMatchesBruteForce) {
             const auto got = background_owners(m.slice, m.fg, m.nslices, m.W, m.H);
             for (std::size_t i = 0; i < want.owner.size(); ++i) {
                 ASSERT_EQ(got.owner[i], want.owner[i]) << "seed " << seed << " pixel " << i;
-                if (want.owner[i] >= 0) ASSERT_FLOAT_EQ(got.distance[i], want.distance[i]) << "seed " << seed;
+                if (want.owner[i] >= 0) {
+                    ASSERT_FLOAT_EQ(got.distance[i], want.distance[i]) << "seed " << seed;
+                }
             }
         }
 }
