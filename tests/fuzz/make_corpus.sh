@@ -9,7 +9,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 c="$here/corpus"
 rm -rf "$c"
-mkdir -p "$c"/{exr,blur_field,stack_json,focus_surfaces,scene,obj,lightfield,lens_table,frames,cli_args} "$here/dict"
+mkdir -p "$c"/{exr,blur_field,psf_field,stack_json,focus_surfaces,scene,obj,lightfield,lens_table,frames,cli_args} "$here/dict"
 
 # ---- EXR: flat, float + Z, windows, tiled, mip-mapped, multipart, deep, attributes
 o=(oiiotool --nosoftwareattrib)
@@ -33,6 +33,7 @@ e="$c/exr"
 
 # ---- JSON and text from the repository's examples
 cp "$root"/examples/blurfields/*.json "$c/blur_field/"
+cp "$root"/examples/psf_fields/*.json "$c/psf_field/"
 cp "$root"/examples/scene/*.json "$c/blur_field/" 2>/dev/null || true
 cp "$root"/examples/stack/*.json "$root"/examples/lightfield/surfaces_tilt.json "$c/focus_surfaces/"
 cp "$root"/examples/render/*.json "$c/scene/"
@@ -79,6 +80,8 @@ syntax='"{"
 "NaN"
 "Infinity"'
 { echo "$syntax"; keys "$root"/lib/src/blur_field/blur_field_parse.cpp "$root"/lib/src/blur_field/blur_field_leaves.cpp "$root"/lib/src/blur_field/blur_field_combinators.cpp; } > "$here/dict/blur_field.dict"
+# A PSF field's blend weights are blur-field nodes: both parsers' keys.
+{ echo "$syntax"; keys "$root"/lib/src/psf_field/psf_field_parse.cpp "$root"/lib/src/blur_field/blur_field_parse.cpp "$root"/lib/src/blur_field/blur_field_leaves.cpp "$root"/lib/src/blur_field/blur_field_combinators.cpp; } > "$here/dict/psf_field.dict"
 { echo "$syntax"; keys "$root"/lib/src/stack/focal_stack_manifest.cpp "$root"/lib/io/src/stack/stack_sources.cpp "$root"/lib/src/raytrace/render_stack.cpp "$root"/lib/io/src/stack/lightfield_json.cpp; } > "$here/dict/stack_json.dict"
 { echo "$syntax"; keys "$root"/lib/src/stack/focus_surfaces.cpp; } > "$here/dict/focus_surfaces.dict"
 { echo "$syntax"; keys "$root"/lib/src/raytrace/scene_parse.cpp; } > "$here/dict/scene.dict"

@@ -278,7 +278,7 @@ TEST(stress_diffusion, empty_layers_change_nothing) {
         ASSERT_TRUE(b) << b.message();
         EXPECT_TRUE(bit_identical(*a, *b)) << with_empty.size() - real.size() << " empty layers changed the result";
     }
-    auto none = defocus_layers({}, BlurField(), test_camera(f), {});
+    auto none = defocus_layers(std::vector<Layer>{}, BlurField(), test_camera(f), {});
     ASSERT_TRUE(none) << none.message();
     EXPECT_TRUE(none->data_window().empty());
 }
