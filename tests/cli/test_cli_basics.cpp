@@ -116,7 +116,7 @@ TEST(cli_basics, CorruptInputNamesItAndWritesNothing) {
     write_text(dir.file("garbage.exr"), "this is not an image file at all");
     write_text(dir.file("empty.exr"), "");
     write_text(dir.file("header_only.png"), std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
-    write_text(dir.file("magic.exr"), std::string("\x76\x2f\x31\x01\x02\0\0\0garbage\0\xff\xff", 20));
+    write_text(dir.file("magic.exr"), std::string("\x76\x2f\x31\x01\x02\0\0\0garbage\0\xff\xff", 18));
     for (const char* name : {"truncated.exr", "garbage.exr", "empty.exr", "header_only.png", "magic.exr"}) {
         const std::string out = dir.file(std::string("out_") + name);
         auto r = run_gdof(quote(dir.file(name)) + " -o " + quote(out));

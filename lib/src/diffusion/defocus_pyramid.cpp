@@ -460,12 +460,14 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
             for (int j = 1; j <= levels; ++j)
                 if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(int(yl), rows[std::size_t(j)]);
             // Level 0 of this row, plane c (read at x before x is written).
+            // s0[c] is the row's start; x + dx0 indexes it (dx0 < 0 where the
+            // level-0 box starts right of the work: those x never read it).
             const float* s0[4] = {nullptr, nullptr, nullptr, nullptr};
+            const std::ptrdiff_t dx0 = level0_in_place ? 0 : std::ptrdiff_t(work.x0) - std::ptrdiff_t(box0.x0);
             for (int c = 0; used[0] && c < 4; ++c)
                 s0[c] = level0_in_place ? planes.plane(c) + std::size_t(yl) * std::size_t(W)
                                         : sol[0].data() + std::size_t(c) * n0 +
-                                              std::size_t(y - box0.y0) * std::size_t(box0.width()) +
-                                              std::size_t(work.x0 - box0.x0);
+                                              std::size_t(y - box0.y0) * std::size_t(box0.width());
             for (int x = 0; x < W; ++x) {
                 const float l = lrow[x];
                 const int j0 = std::min(int(l), levels);
@@ -476,7 +478,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
                     const float w = k == 0 ? 1.0f - f : f;
                     if (!(w > 0.0f) || j > levels) continue;
                     if (j == 0) {
-                        for (int c = 0; c < 4; ++c) a4[c] += w * s0[c][x];
+                        for (int c = 0; c < 4; ++c) a4[c] += w * s0[c][std::ptrdiff_t(x) + dx0];
                     } else {
                         ret[std::size_t(j)].horizontal(rows[std::size_t(j)], x, w, a4);
                     }
