@@ -17,17 +17,30 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // The largest radius the solver will see in a radius map, computed exactly as
-// diffuse_planes does (through the float diffusivity).
-double solver_max_radius(const std::vector<float>& radius_map) {
+// diffuse_planes does (through the float diffusivity). A frame-sized map is
+// scanned in fixed blocks in parallel (a max: the same for any thread count).
+double solver_max_radius(const std::vector<float>& radius_map, const Exec& exec) {
+    constexpr std::size_t kBlock = 1 << 16;
+    const std::size_t nb = (radius_map.size() + kBlock - 1) / kBlock;
+    std::vector<float> block_max(nb, 0.0f);
+    parallel_for(exec, long(nb), [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            float dmax = 0.0f;
+            const std::size_t i1 = std::min(radius_map.size(), std::size_t(b + 1) * kBlock);
+            for (std::size_t i = std::size_t(b) * kBlock; i < i1; ++i)
+                dmax = std::max(dmax, float(diffusivity_from_radius(radius_map[i])));
+            block_max[std::size_t(b)] = dmax;
+        }
+    });
     float dmax = 0.0f;
-    for (float r : radius_map) dmax = std::max(dmax, float(diffusivity_from_radius(r)));
+    for (float d : block_max) dmax = std::max(dmax, d);
     return radius_from_diffusivity(dmax);
 }
 
 }  // namespace
 
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
-                                        const std::vector<float>& radius_map) {
+                                        const std::vector<float>& radius_map, const Exec& exec) {
     DiffusionOptions s = base;
     const double r_layer = radius_from_diffusivity(float(diffusivity_from_radius(layer_max_radius)));
     // Auto is decided by the whole layer's largest radius, so every tile of a
@@ -40,7 +53,7 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
     // Explicit: the solver derives its iteration count from the map's largest
     // radius; scale the safety factor so the count is the whole layer's.
     const int target = explicit_iterations(r_layer, base);
-    const double r_map = solver_max_radius(radius_map);
+    const double r_map = solver_max_radius(radius_map, exec);
     if (!(r_map > 0.0) || explicit_iterations(r_map, base) == target) return s;
     const double per_safety = diffusivity_from_radius(r_map) * 10.0 / 3.0;
     double safety = std::clamp((double(target) - 0.5) / per_safety, 1.0, 100.0);
@@ -100,7 +113,8 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     const int W = work.width();
     const std::size_t n = work.npixels();
     out.work = work;
-    out.rgba = Image::with_channels({"R", "G", "B", "A"}, work);
+    out.rgba = Image::uninitialized({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float}},
+                                    work, work);  // every row written below
     if (n == 0) return Status::ok();
     const Roi overlap = intersect(win, work);
 
@@ -111,15 +125,20 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
 
     // Colour and coverage, zero-padded.
     const int src_c[4] = {analysis.rgba.r, analysis.rgba.g, analysis.rgba.b, analysis.rgba.a};
-    for (int c = 0; c < 4; ++c) {
-        const float* src = img.plane(src_c[c]);
-        float* dst = out.rgba.plane(c);
-        for (int y = overlap.y0; y < overlap.y1; ++y) {
-            const float* s = src + img.offset(overlap.x0, y);
-            float* d = dst + std::size_t(y - work.y0) * std::size_t(W) + std::size_t(overlap.x0 - work.x0);
-            std::copy(s, s + overlap.width(), d);
-        }
-    }
+    parallel_for(exec, work.height(), [&](long r0, long r1) {
+        for (int y = work.y0 + int(r0); y < work.y0 + int(r1); ++y)
+            for (int c = 0; c < 4; ++c) {
+                float* d = out.rgba.plane(c) + std::size_t(y - work.y0) * std::size_t(W);
+                if (y < overlap.y0 || y >= overlap.y1 || overlap.empty()) {
+                    std::fill_n(d, W, 0.0f);
+                    continue;
+                }
+                const int xa = overlap.x0 - work.x0, xb = overlap.x1 - work.x0;
+                std::fill(d, d + xa, 0.0f);
+                std::copy_n(img.plane(src_c[c]) + img.offset(overlap.x0, y), overlap.width(), d + xa);
+                std::fill(d + xb, d + W, 0.0f);
+            }
+    }, 16);
 
     t0 = std::chrono::steady_clock::now();
     if (bokeh) {

@@ -46,7 +46,7 @@ struct DiffusedLayer {
 // not over the (possibly cropped) radius map, so a sub-region render runs the
 // same operator as the full render.
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
-                                        const std::vector<float>& radius_map);
+                                        const std::vector<float>& radius_map, const Exec& exec);
 
 // What diffuse_pyramid ran, for the --stats counts.
 struct PyramidSolve {

@@ -216,28 +216,40 @@ Status solve_level_in_place(const ImageView& planes, const float* cell_radius, s
                 radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] =
                     float(level_radius(cell_radius[std::size_t(y) * row_stride + std::size_t(x)], scale));
     }, 16);
-    DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+    DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius, exec);
     if (used && s.solver == DiffusionSolver::Explicit) {
         const int iterations = explicit_iterations(level_radius(layer_max, scale), settings);
         const std::vector<unsigned char> reach = dilate(*used, W, box.height(), iterations + 2, exec);
-        bool cut = false;
-        for (std::size_t i = 0; i < radius.size(); ++i)
-            if (!reach[i] && radius[i] > 0.0f) radius[i] = 0.0f, cut = true;
-        if (cut) s = layer_solver_settings(settings, level_radius(layer_max, scale), radius);
+        std::vector<unsigned char> row_cut(std::size_t(box.height()), 0);
+        parallel_for(exec, box.height(), [&](long r0, long r1) {
+            for (long y = r0; y < r1; ++y)
+                for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i)
+                    if (!reach[i] && radius[i] > 0.0f) radius[i] = 0.0f, row_cut[std::size_t(y)] = 1;
+        }, 16);
+        if (std::find(row_cut.begin(), row_cut.end(), 1) != row_cut.end()) s = layer_solver_settings(settings, level_radius(layer_max, scale), radius, exec);
     }
     return diffuse_planes(planes, ConstImageView::planar(radius.data(), 1, box), s, exec);
+}
+
+// The four planes' rows of `box` (row stride `row_stride` from planes[c])
+// into `out`, packed: four planes over box.
+void copy_box(const float* const planes[4], const Roi& box, std::size_t row_stride, const Exec& exec,
+              std::vector<float>& out) {
+    const std::size_t n = box.npixels();
+    const std::size_t W = std::size_t(box.width());
+    out.resize(4 * n);  // every element written below
+    parallel_for(exec, box.height(), [&](long r0, long r1) {
+        for (long y = r0; y < r1; ++y)
+            for (int c = 0; c < 4; ++c)
+                std::copy_n(planes[c] + std::size_t(y) * row_stride, W, out.data() + std::size_t(c) * n + std::size_t(y) * W);
+    }, 16);
 }
 
 // The same on a copy of the box's planes, in `out` (4 planes over box).
 Status solve_level(const float* const planes[4], const float* cell_radius, const Roi& box, std::size_t row_stride,
                    int scale, double layer_max, const DiffusionOptions& settings, const Exec& exec,
                    std::vector<float>& out) {
-    const std::size_t n = box.npixels();
-    const int W = box.width();
-    out.assign(4 * n, 0.0f);
-    for (int y = 0; y < box.height(); ++y)
-        for (int c = 0; c < 4; ++c)
-            std::copy_n(planes[c] + std::size_t(y) * row_stride, W, out.data() + std::size_t(c) * n + std::size_t(y) * std::size_t(W));
+    copy_box(planes, box, row_stride, exec, out);
     return solve_level_in_place(ImageView::planar(out.data(), 4, box), cell_radius, row_stride, scale, layer_max, settings, exec);
 }
 
@@ -359,7 +371,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     const int levels = settings.pyramid ? pyramid_levels(layer_max_radius, layer_region) : 0;
     how.on_pyramid = levels > 0;
     if (levels == 0) {
-        const DiffusionOptions s = layer_solver_settings(settings, layer_max_radius, radius);
+        const DiffusionOptions s = layer_solver_settings(settings, layer_max_radius, radius, exec);
         how.solver = s.solver;
         return diffuse_planes(planes, ConstImageView::planar(radius.data(), 1, work), s, exec);
     }
@@ -428,12 +440,9 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
             st = solve_level_in_place(planes, radius.data(), std::size_t(W), 1, layer_max_radius, settings, exec, &used);
         } else {
             std::vector<float>& out = sol[0];
-            const std::size_t n0 = box0.npixels();
-            out.assign(4 * n0, 0.0f);
-            for (int y = 0; y < box0.height(); ++y)
-                for (int c = 0; c < 4; ++c)
-                    std::copy_n(src[std::size_t(c)] + off + std::size_t(y) * std::size_t(W), box0.width(),
-                                out.data() + std::size_t(c) * n0 + std::size_t(y) * std::size_t(box0.width()));
+            const float* p[4];
+            for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
+            copy_box(p, box0, std::size_t(W), exec, out);
             st = solve_level_in_place(ImageView::planar(out.data(), 4, box0), radius.data() + off, std::size_t(W), 1,
                                       layer_max_radius, settings, exec, &used);
         }

@@ -19,7 +19,7 @@ namespace {
 // one plane after another.
 struct Level {
     int w = 0, h = 0;
-    std::vector<float> weight, values;
+    std::vector<float, DefaultInitAllocator<float>> weight, values;  // every element set by push()
     float* plane(int c) { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
     const float* plane(int c) const { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
 };
@@ -52,8 +52,8 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
     c.h = (fh + 1) / 2;
     const int nc = int(fplanes.size());
     const std::size_t cn = std::size_t(c.w) * std::size_t(c.h);
-    c.weight.assign(cn, 0.0f);
-    c.values.assign(std::size_t(nc) * cn, 0.0f);
+    c.weight.resize(cn);
+    c.values.resize(std::size_t(nc) * cn);
     parallel_for(exec, c.h, [&](long y0, long y1) {
         // Per coarse pixel of the row: its four fine pixels' weights (0 where
         // absent) and indices.

@@ -46,12 +46,27 @@ Image::Image(std::vector<ChannelSpec> channels, Roi data_window)
 
 Image::Image(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window)
     : channels_(std::move(channels)), data_(data_window), display_(display_window) {
+    allocate_planes(true);
+}
+
+void Image::allocate_planes(bool zero_floats) {
     // Keep a degenerate (x1 < x0) window representable but allocate nothing for it.
     number_float_planes();
-    fdata_.assign(std::size_t(float_channel_count()) * npixels(), 0.0f);
+    const std::size_t n = std::size_t(float_channel_count()) * npixels();
+    if (zero_floats) fdata_.assign(n, 0.0f);
+    else fdata_.resize(n);
     uplanes_.resize(channels_.size());
     for (std::size_t c = 0; c < channels_.size(); ++c)
         if (channels_[c].type == PixelType::UInt) uplanes_[c].assign(npixels(), 0u);
+}
+
+Image Image::uninitialized(std::vector<ChannelSpec> channels, Roi data_window, Roi display_window) {
+    Image img;
+    img.channels_ = std::move(channels);
+    img.data_ = data_window;
+    img.display_ = display_window;
+    img.allocate_planes(false);
+    return img;
 }
 
 Image Image::with_channels(const std::vector<std::string>& names, Roi data_window) {

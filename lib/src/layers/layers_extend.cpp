@@ -140,16 +140,21 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     const Image& src = L.image;
     const bool has_p = src.nchannels() >= 8;
     const int nfill = has_p ? 7 : 4;  // r, g, b, Z (, P.x, P.y, P.z)
-    std::vector<float> fill_planes(std::size_t(nfill) * wn, 0.0f);  // back to back over `work`
+    // Frame-sized at 4K: set in the parallel loop below (zero where the layer
+    // has nothing), not zeroed on one thread first.
+    using Buffer = std::vector<float, DefaultInitAllocator<float>>;
+    Buffer fill_planes(std::size_t(nfill) * wn);  // back to back over `work`
     std::array<float*, 7> fill{};
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
-    std::vector<float> wcol(wn, 0.0f), wgeo(wn, 0.0f);
+    Buffer wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
     parallel_for(exec, wh, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < ww; ++x) {
                 const int ax = work.x0 + x, ay = work.y0 + y;
                 const std::size_t wi = std::size_t(y) * ww + x;
+                wcol[wi] = wgeo[wi] = 0.0f;
+                for (int c = 0; c < nfill; ++c) fill[std::size_t(c)][wi] = 0.0f;
                 if (!own[wi] || !(alpha[wi] > 0.0f)) continue;
                 const float al = alpha[wi];
                 wcol[wi] = al;
@@ -179,15 +184,17 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     }
     wgeo = {};
     // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
-    std::vector<float> cover, wcover;
+    Buffer cover, wcover;
     const bool coverage_continues = opt.continue_coverage && !fills_frame;
     if (coverage_continues) {
-        cover.assign(wn, 0.0f);
-        wcover.assign(wn, 0.0f);
-        for (std::size_t wi = 0; wi < wn; ++wi) {
-            if (own[wi]) cover[wi] = alpha[wi], wcover[wi] = 1.0f;
-            else if (seen_empty[wi]) wcover[wi] = 1.0f;
-        }
+        cover.resize(wn);
+        wcover.resize(wn);
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (std::size_t wi = std::size_t(r0) * ww; wi < std::size_t(r1) * ww; ++wi) {
+                cover[wi] = own[wi] ? alpha[wi] : 0.0f;
+                wcover[wi] = own[wi] || seen_empty[wi] ? 1.0f : 0.0f;
+            }
+        }, 16);
         if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work), exec))
             std::fill(cover.begin(), cover.end(), 1.0f);
     }
@@ -196,7 +203,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // in the layer's window already: a farthest layer that fills the frame).
     const Roi old = src.data_window();
     if (!(box == old)) {
-        Image out(src.channels(), box, src.display_window());
+        Image out = Image::uninitialized(src.channels(), box, src.display_window());  // every row written below
         out.metadata = src.metadata;
         out.name = src.name;
         out.view = src.view;
