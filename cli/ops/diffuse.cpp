@@ -10,7 +10,7 @@
 #include "cli.h"
 #include "gdof/defocus.h"
 #include "gdof/diffusion.h"
-#include "gdof/io/blur_field_io.h"
+#include "gdof/io/psf_field_io.h"
 #include "gdof/layers.h"
 #include "gdof/psf_field.h"
 #include "ops/ops.h"
@@ -131,7 +131,7 @@ void psf_field(Frame& f, const std::string& path) {
     const std::string text = read_flag_file("--psf-field", "file", path);
     std::error_code ec;
     const std::string dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
-    auto r = PsfField::parse(text, io::blur_field_context(dir));
+    auto r = io::parse_psf_field(text, dir);
     if (!r) runtime_error("--psf-field '" + path + "': " + r.message());
     f.defocus.psf_field = std::move(r).value();
 }
