@@ -166,7 +166,7 @@ std::vector<Command> diffuse_commands() {
            "the --psf-field displacement (default: defocus, B(x) times the --aperture sample), "
            "composited with visibility and averaged");
     t.push_back({.names = {"--psf-field"}, .args = "FILE", .kind = Kind::Modifier, .group = D,
-                 .help = "the PSF field JSON for --vibrate: defocus, swirl, depth, sum, blend (docs/psf_field.md)",
+                 .help = "the PSF field JSON for --vibrate: defocus, swirl, depth, image_map, sum, blend (docs/psf_field.md)",
                  .run = [](Frame& f, const Step& s) { psf_field(f, s.args[0]); }});
     t.push_back({.names = {"--psf-samples"}, .args = "N", .kind = Kind::Modifier, .group = D,
                  .help = "aperture samples for --vibrate (default 0: the field's \"samples\", else automatic from the "

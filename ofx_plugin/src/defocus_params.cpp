@@ -136,7 +136,7 @@ void describe_defocus_params(ParamDefiner& d) {
     d.number("cats_eye", "Cat's Eye", a.cats_eye, 0, 1, 0, 1,
              "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye (bokeh only)");
     d.text("psf_field", "PSF Field File", "", kOfxParamStringIsFilePath,
-           "vibrate: the PSF-field JSON (defocus, swirl, depth, sum, blend; as the CLI's --psf-field); empty: "
+           "vibrate: the PSF-field JSON (defocus, swirl, depth, image_map, sum, blend; as the CLI's --psf-field); empty: "
            "the defocus field, B(x) times the aperture sample");
     d.integer("psf_samples", "PSF Samples", 0, 0, 65536,
               "vibrate: aperture samples (--psf-samples); 0: the file's \"samples\", else automatic from the largest "
