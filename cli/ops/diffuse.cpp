@@ -10,7 +10,7 @@
 #include "cli.h"
 #include "gdof/defocus.h"
 #include "gdof/diffusion.h"
-#include "gdof/io/blur_field_io.h"
+#include "gdof/io/psf_field_io.h"
 #include "gdof/layers.h"
 #include "gdof/psf_field.h"
 #include "ops/ops.h"
@@ -131,7 +131,7 @@ void psf_field(Frame& f, const std::string& path) {
     const std::string text = read_flag_file("--psf-field", "file", path);
     std::error_code ec;
     const std::string dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
-    auto r = PsfField::parse(text, io::blur_field_context(dir));
+    auto r = io::parse_psf_field(text, dir);
     if (!r) runtime_error("--psf-field '" + path + "': " + r.message());
     f.defocus.psf_field = std::move(r).value();
 }
@@ -166,7 +166,7 @@ std::vector<Command> diffuse_commands() {
            "the --psf-field displacement (default: defocus, B(x) times the --aperture sample), "
            "composited with visibility and averaged");
     t.push_back({.names = {"--psf-field"}, .args = "FILE", .kind = Kind::Modifier, .group = D,
-                 .help = "the PSF field JSON for --vibrate: defocus, swirl, depth, sum, blend (docs/psf_field.md)",
+                 .help = "the PSF field JSON for --vibrate: defocus, swirl, depth, image_map, sum, blend (docs/psf_field.md)",
                  .run = [](Frame& f, const Step& s) { psf_field(f, s.args[0]); }});
     t.push_back({.names = {"--psf-samples"}, .args = "N", .kind = Kind::Modifier, .group = D,
                  .help = "aperture samples for --vibrate (default 0: the field's \"samples\", else automatic from the "

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gdof/io/psf_field_io.h"
+
 namespace gdof::ofx {
 
 namespace {
@@ -18,7 +20,7 @@ const std::vector<std::string> kEncodings = {"metric", "inverse", "scaled", "nea
 // Choice params are saved by index: new options go last.
 const std::vector<std::string> kSolvers = {"adi", "explicit", "auto"};
 const std::vector<std::string> kAnalyses = {"frame", "region"};
-const std::vector<std::string> kFilters = {"diffusion", "bokeh"};
+const std::vector<std::string> kFilters = {"diffusion", "bokeh", "vibrate"};
 const std::vector<std::string> kApertures = {"disc", "polygon", "image"};
 
 // Index of `value` in `options` (a descriptor's default).
@@ -118,10 +120,13 @@ void describe_defocus_params(ParamDefiner& d) {
     d.choice("filter", "Filter", kFilters, 0,
              "diffusion: each layer blurred by the heat equation (a Gaussian point-spread function); bokeh: each "
              "layer spread over the aperture's shape (discs, polygons, an image), with the same layers and "
-             "visibility (the CLI's --bokeh)");
+             "visibility (the CLI's --bokeh); vibrate: method 4, the generalized PSF field: the layers moved per "
+             "aperture sample by the PSF field's displacement, composited with visibility and averaged (the CLI's "
+             "--vibrate)");
     const Aperture a;
     d.choice("aperture", "Aperture", kApertures, 0,
-             "bokeh: the iris shape; image takes the Aperture clip (grey or colour) as the kernel");
+             "bokeh: the iris shape; vibrate: the domain of the aperture samples; image takes the Aperture clip "
+             "(grey or colour) as the kernel");
     d.integer("blades", "Blades", a.blades, 3, 64, "polygon: the number of blades");
     d.number("rotation", "Rotation (deg)", a.rotation_deg, -360, 360, -180, 180,
              "polygon / image: counter-clockwise turn (0: a polygon vertex points right)");
@@ -129,7 +134,13 @@ void describe_defocus_params(ParamDefiner& d) {
     d.number("squeeze", "Anamorphic Squeeze", a.squeeze, 0.1, 10, 0.5, 2,
              "the shape's width divided by it (2: the oval bokeh of a 2x anamorphic lens)");
     d.number("cats_eye", "Cat's Eye", a.cats_eye, 0, 1, 0, 1,
-             "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye");
+             "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye (bokeh only)");
+    d.text("psf_field", "PSF Field File", "", kOfxParamStringIsFilePath,
+           "vibrate: the PSF-field JSON (defocus, swirl, depth, image_map, sum, blend; as the CLI's --psf-field); empty: "
+           "the defocus field, B(x) times the aperture sample");
+    d.integer("psf_samples", "PSF Samples", 0, 0, 65536,
+              "vibrate: aperture samples (--psf-samples); 0: the file's \"samples\", else automatic from the largest "
+              "displacement");
     d.set_group("");
 }
 
@@ -181,6 +192,8 @@ DefocusParams read_defocus_params(const ParamReader& r) {
     p.roundness = r.number("roundness");
     p.squeeze = r.number("squeeze");
     p.cats_eye = r.number("cats_eye");
+    p.psf_field = r.text("psf_field");
+    p.psf_samples = r.integer("psf_samples");
     return p;
 }
 
@@ -248,7 +261,7 @@ Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
     auto split = parse_layer_split(p.layers > 0 ? std::to_string(p.layers) : std::string(p.cut_by_blur ? "auto" : "auto:gaps"));
     if (!split) return split.status().prefix("parameter 'layers'");
     s.split = *split;
-    s.filter = p.filter == "bokeh" ? DefocusFilter::Bokeh : DefocusFilter::Diffusion;
+    s.filter = p.filter == "bokeh" ? DefocusFilter::Bokeh : p.filter == "vibrate" ? DefocusFilter::Vibrate : DefocusFilter::Diffusion;
     s.aperture.kind = p.aperture == "polygon" ? Aperture::Kind::Polygon
                       : p.aperture == "image" ? Aperture::Kind::Image : Aperture::Kind::Disc;
     s.aperture.blades = p.blades;
@@ -256,6 +269,17 @@ Result<DefocusOptions> defocus_settings(const DefocusParams& p) {
     s.aperture.roundness = p.roundness;
     s.aperture.squeeze = p.squeeze;
     s.aperture.cats_eye = p.cats_eye;
+    if (s.filter == DefocusFilter::Vibrate) {
+        if (p.psf_samples < 0 || p.psf_samples > 65536)
+            return Status::error("parameter 'psf_samples': must be 0 (automatic) to 65536, got " + std::to_string(p.psf_samples),
+                                 StatusCode::InvalidArgument, "psf_samples");
+        s.vibrate.samples = p.psf_samples;
+        if (!p.psf_field.empty()) {
+            auto field = io::read_psf_field(p.psf_field);
+            if (!field) return field.status().prefix("parameter 'psf_field'");
+            s.psf_field = std::move(field).value();
+        }
+    }
     s.source.depth_channel = "Z";
     if (p.depth_pass == "position") {
         s.source.position_channels = "P";  // Z is computed from P: metric

@@ -50,12 +50,17 @@ struct DefocusParams {
     int layers = 0;                 // 0: auto
     bool cut_by_blur = true;        // auto layers also cut by blur (off: auto:gaps)
     std::string analysis = "frame"; // frame | region
-    // The filter (--diffuse / --bokeh) and the bokeh aperture (--aperture):
-    // image takes the Aperture clip as the kernel.
-    std::string filter = "diffusion";  // diffusion | bokeh
+    // The filter (--diffuse / --bokeh / --vibrate) and the aperture
+    // (--aperture: bokeh's kernel, vibrate's sample domain): image takes the
+    // Aperture clip as the kernel.
+    std::string filter = "diffusion";  // diffusion | bokeh | vibrate
     std::string aperture = "disc";     // disc | polygon | image
     int blades = 6;
     double rotation = 0, roundness = 0, squeeze = 1, cats_eye = 0;
+    // vibrate (method 4): the PSF-field file (--psf-field; empty: the
+    // default defocus field) and the aperture samples (--psf-samples).
+    std::string psf_field;
+    int psf_samples = 0;
 };
 
 void describe_defocus_params(ParamDefiner& d);
@@ -71,6 +76,8 @@ LensOverrides lens_overrides(const DefocusParams& p);
 // Solver, layer split, depth source (channel "Z", decoded per the
 // parameters; position passes as "P.x/y/z" with metric Z). Errors name the parameter.
 // The aperture parameters (an image kernel's pixels are the effect's to add).
+// vibrate: the PSF field read from the psf_field file (io::read_psf_field,
+// so exactly as --psf-field; errors name the parameter, the file and the key).
 Result<DefocusOptions> defocus_settings(const DefocusParams& p);
 
 }  // namespace gdof::ofx

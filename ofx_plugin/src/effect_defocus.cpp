@@ -1,6 +1,7 @@
 // "gdof Defocus": method 3 (heat diffusion of depth layers, gdof/defocus.h)
 // on the Source clip, with the depth from the Depth clip and the blur field
-// from the parameters: the same defocus() call as `gdof --diffuse`.
+// from the parameters: the same defocus() call as `gdof --diffuse` (filter
+// bokeh: `--bokeh`; filter vibrate: method 4, `--vibrate`).
 #include <cmath>
 
 #include "defocus_inputs.h"
@@ -149,7 +150,7 @@ public:
         auto settings = defocus_settings(p);
         if (!settings) fail(settings.message());
         settings->roi = window;
-        if (settings->filter == DefocusFilter::Bokeh && settings->aperture.kind == Aperture::Kind::Image) {
+        if (settings->filter != DefocusFilter::Diffusion && settings->aperture.kind == Aperture::Kind::Image) {
             // The kernel's pixels as they are: its size does not matter (it is
             // fitted to the blur radius), so render scale scales it too.
             const Clip kernel(fx, kAperture);

@@ -3,7 +3,8 @@
 The C++ library's calls with numpy arrays: images and deep images
 (gdof.read_image -> gdof.ImageSet of gdof.Image / gdof.DeepImage, pixels as
 (C, H, W) float32 views), blur fields (gdof.BlurField.parse / .read),
-cameras, and the methods: gdof.defocus (method 3: diffusion or bokeh),
+cameras, and the methods: gdof.defocus (method 3: diffusion or bokeh; method
+4, filter="vibrate", with a gdof.PsfField),
 gdof.composite (method 2), gdof.render (method 1), gdof.extract_stack
 (light fields). Errors are gdof.Error with the library's message; the GIL
 is released while the library works; progress= takes a callable; Ctrl-C
@@ -29,8 +30,11 @@ from ._gdof import (  # noqa: F401
     LensInfo,
     Metadata,
     PositionSource,
+    PsfField,
     Roi,
     ThinLens,
+    VibrateOptions,
+    VibrateStats,
     __version__,
     composite,
     defocus,
@@ -44,6 +48,6 @@ from ._gdof import (  # noqa: F401
 __all__ = [
     "Aperture", "BlurField", "Camera", "DeepImage", "DefocusOptions", "DefocusStats", "DepthCleanupOptions",
     "DepthDecode", "DiffusionOptions", "Error", "Image", "ImageSet", "LayerSplit", "LensInfo", "Metadata",
-    "PositionSource", "Roi", "ThinLens", "__version__", "composite", "defocus", "extract_stack", "read_image",
+    "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "read_image",
     "render", "resolve_camera", "write_image",
 ]

@@ -464,6 +464,79 @@ class BlurField:
 
     def __repr__(self) -> str: ...
 
+class PsfField:
+    """
+    Method 4's PSF field (docs/psf_field.md): for a point and an aperture sample, a displacement. PsfField() is the defocus field; PsfField.parse(dict or JSON text), PsfField.read(path)
+    """
+
+    def __init__(self) -> None:
+        """the defocus field: B(x) times the aperture sample"""
+
+    @staticmethod
+    def parse(spec: object, base_dir: str = '') -> PsfField:
+        """
+        from a dict ({'psf_field': {...}}) or JSON text; image_map paths relative to base_dir
+        """
+
+    @staticmethod
+    def read(path: str) -> PsfField:
+        """from a JSON file"""
+
+    @property
+    def samples(self) -> int:
+        """aperture samples the file asks for (0: automatic)"""
+
+    @property
+    def moves_depth(self) -> bool:
+        """True when a part moves points along their rays"""
+
+    def describe(self) -> str: ...
+
+    def __repr__(self) -> str: ...
+
+class VibrateOptions:
+    """The vibrate filter's sampling (psf_field.h)"""
+
+    def __init__(self) -> None: ...
+
+    @property
+    def samples(self) -> int:
+        """aperture samples; 0: the field's, else automatic"""
+
+    @samples.setter
+    def samples(self, arg: int, /) -> None: ...
+
+    @property
+    def seed(self) -> int:
+        """of the samples' jitter"""
+
+    @seed.setter
+    def seed(self, arg: int, /) -> None: ...
+
+    @property
+    def prefilter(self) -> float:
+        """each sample's splat: sigma = prefilter * sample spacing"""
+
+    @prefilter.setter
+    def prefilter(self, arg: float, /) -> None: ...
+
+class VibrateStats:
+    """What the vibrate filter did"""
+
+    def __init__(self) -> None: ...
+
+    @property
+    def samples(self) -> int: ...
+
+    @property
+    def spacing(self) -> float: ...
+
+    @property
+    def max_displacement_px(self) -> float: ...
+
+    @property
+    def splats(self) -> int: ...
+
 class DiffusionOptions:
     def __init__(self) -> None: ...
 
@@ -718,7 +791,7 @@ class DefocusOptions:
 
     @property
     def filter(self) -> str:
-        """diffusion or bokeh"""
+        """diffusion, bokeh or vibrate"""
 
     @filter.setter
     def filter(self, arg: str, /) -> None: ...
@@ -728,6 +801,19 @@ class DefocusOptions:
 
     @aperture.setter
     def aperture(self, arg: object, /) -> None: ...
+
+    @property
+    def psf_field(self) -> PsfField:
+        """vibrate: a PsfField, the path of its file or its dict"""
+
+    @psf_field.setter
+    def psf_field(self, arg: object, /) -> None: ...
+
+    @property
+    def vibrate(self) -> VibrateOptions: ...
+
+    @vibrate.setter
+    def vibrate(self, arg: VibrateOptions, /) -> None: ...
 
     @property
     def diffusion(self) -> DiffusionOptions: ...
@@ -787,13 +873,19 @@ class DefocusStats:
     def layers_pyramid(self) -> int: ...
 
     @property
+    def layers_vibrated(self) -> int: ...
+
+    @property
+    def vibrate(self) -> VibrateStats: ...
+
+    @property
     def max_radius_px(self) -> float: ...
 
     def report(self) -> str: ...
 
-def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, split_mixed: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None) -> ImageSet:
+def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, psf_field: PsfField | dict | str | None = None, psf_samples: int | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, split_mixed: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None) -> ImageSet:
     """
-    Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's (resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes.
+    Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's (resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is --bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=).
     """
 
 def composite(manifest: str, *, surfaces: object | None = None, near_map: Image | None = None, far_map: Image | None = None, image: Image | None = None, blurfield: BlurField | None = None, camera: Camera | None = None, soft: int = 1, aovs: bool = False, progress: object | None = None, threads: int = 0) -> Image:

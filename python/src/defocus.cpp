@@ -1,7 +1,8 @@
 // Method 3 (gdof/defocus.h): gdof.defocus and its settings, DefocusOptions
 // and the structs it holds, field for field. defocus() also takes the CLI's
 // flags as keywords, named without dashes (solver=, layers=, adi_steps=,
-// pyramid=, aperture=, depth_channel=, focal_length_mm=, ...).
+// pyramid=, aperture=, psf_field=, psf_samples=, depth_channel=,
+// focal_length_mm=, ...); filter="vibrate" is method 4 (--vibrate).
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 
@@ -23,7 +24,8 @@ DepthEncoding encoding_of(const std::string& s) { return take(parse_depth_encodi
 DefocusFilter filter_of(const std::string& s) {
     if (s == "diffusion") return DefocusFilter::Diffusion;
     if (s == "bokeh") return DefocusFilter::Bokeh;
-    raise(Status::error("filter: expected diffusion or bokeh, got '" + s + "'", StatusCode::InvalidArgument, "filter"));
+    if (s == "vibrate") return DefocusFilter::Vibrate;
+    raise(Status::error("filter: expected diffusion, bokeh or vibrate, got '" + s + "'", StatusCode::InvalidArgument, "filter"));
 }
 Aperture aperture_of(const nb::handle& h) {
     if (nb::isinstance<Aperture>(h)) return nb::cast<Aperture>(h);
@@ -55,6 +57,8 @@ const std::map<std::string, Setter>& keywords() {
     static const std::map<std::string, Setter> k = {
         {"filter", [](Settings& s, const nb::handle& v) { s.options.filter = filter_of(nb::cast<std::string>(v)); }},
         {"aperture", [](Settings& s, const nb::handle& v) { s.options.aperture = aperture_of(v); }},
+        {"psf_field", [](Settings& s, const nb::handle& v) { s.options.psf_field = psf_field_of(v); }},
+        {"psf_samples", [](Settings& s, const nb::handle& v) { s.options.vibrate.samples = nb::cast<int>(v); }},
         {"solver", [](Settings& s, const nb::handle& v) { s.options.diffusion.solver = solver_of(nb::cast<std::string>(v)); }},
         {"adi_steps", [](Settings& s, const nb::handle& v) { s.options.diffusion.adi_steps = nb::cast<int>(v); }},
         {"explicit_safety", [](Settings& s, const nb::handle& v) { s.options.diffusion.explicit_safety = nb::cast<double>(v); }},
@@ -170,9 +174,13 @@ void register_defocus(nb::module_& m) {
     nb::class_<DefocusOptions>(m, "DefocusOptions", "Every setting of defocus() (defocus.h), as the C++ struct")
         .def(nb::init<>())
         .def_prop_rw("filter", [](const DefocusOptions& o) { return std::string(to_string(o.filter)); },
-                     [](DefocusOptions& o, const std::string& s) { o.filter = filter_of(s); }, "diffusion or bokeh")
+                     [](DefocusOptions& o, const std::string& s) { o.filter = filter_of(s); }, "diffusion, bokeh or vibrate")
         .def_prop_rw("aperture", [](const DefocusOptions& o) { return o.aperture; },
                      [](DefocusOptions& o, const nb::handle& a) { o.aperture = aperture_of(a); })
+        .def_prop_rw("psf_field", [](const DefocusOptions& o) { return o.psf_field; },
+                     [](DefocusOptions& o, const nb::handle& f) { o.psf_field = psf_field_of(f); },
+                     "vibrate: a PsfField, the path of its file or its dict")
+        .def_rw("vibrate", &DefocusOptions::vibrate, nb::rv_policy::reference_internal)
         .def_rw("diffusion", &DefocusOptions::diffusion, nb::rv_policy::reference_internal)
         .def_prop_rw("split", [](const DefocusOptions& o) { return o.split; },
                      [](DefocusOptions& o, const nb::handle& s) { o.split = split_of(s); }, "a LayerSplit or its text")
@@ -190,6 +198,8 @@ void register_defocus(nb::module_& m) {
         .def_ro("layers_adi", &DefocusStats::layers_adi)
         .def_ro("layers_bokeh", &DefocusStats::layers_bokeh)
         .def_ro("layers_pyramid", &DefocusStats::layers_pyramid)
+        .def_ro("layers_vibrated", &DefocusStats::layers_vibrated)
+        .def_ro("vibrate", &DefocusStats::vibrate, nb::rv_policy::reference_internal)
         .def_ro("max_radius_px", &DefocusStats::max_radius_px)
         .def("report", &DefocusStats::report);
 
@@ -223,7 +233,8 @@ void register_defocus(nb::module_& m) {
           nb::arg("threads") = 0, nb::arg("kwargs"),
           "Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into "
           "one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's "
-          "(resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes.");
+          "(resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is "
+          "--bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=).");
 }
 
 }  // namespace gdof::python

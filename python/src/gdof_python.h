@@ -10,6 +10,7 @@
 #include "gdof/exec.h"
 #include "gdof/image.h"
 #include "gdof/image_set.h"
+#include "gdof/psf_field.h"
 #include "gdof/status.h"
 
 namespace gdof::python {
@@ -48,11 +49,17 @@ const ImageSet& to_image_set(const nb::handle& h, ImageSet& storage);
 // through json.dumps.
 std::string json_text(const nb::handle& h);
 
+// A PSF field for defocus(psf_field=...) and DefocusOptions.psf_field: a
+// gdof.PsfField as it is, a str as the path of its file (the CLI's
+// --psf-field FILE), anything else (a dict) as its JSON (psf_field.cpp).
+PsfField psf_field_of(const nb::handle& h);
+
 void register_errors(nb::module_& m);
 void register_images(nb::module_& m);
 void register_image_io(nb::module_& m);
 void register_camera(nb::module_& m);
 void register_blur_field(nb::module_& m);
+void register_psf_field(nb::module_& m);
 void register_defocus(nb::module_& m);
 void register_composite(nb::module_& m);
 void register_render(nb::module_& m);

@@ -11,6 +11,7 @@ NB_MODULE(_gdof, m) {
     register_image_io(m);
     register_camera(m);
     register_blur_field(m);
+    register_psf_field(m);
     register_defocus(m);
     register_composite(m);
     register_render(m);

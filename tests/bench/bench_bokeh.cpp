@@ -37,6 +37,7 @@
 #include "gdof/raytrace.h"
 #include "gdof/scene.h"
 #include "methods/bench_metrics.h"
+#include "methods/cost_scene.h"
 
 using namespace gdof;
 namespace fs = std::filesystem;
@@ -49,25 +50,10 @@ using json = nlohmann::json;
 
 namespace {
 
+using bench::best_of;
 using bench::die;
+using bench::median_of;
 using bench::take;
-
-double seconds(const std::function<void()>& f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-double best_of(int n, const std::function<void()>& f) {
-    double b = 1e30;
-    for (int i = 0; i < n; ++i) b = std::min(b, seconds(f));
-    return b;
-}
-double median_of(int n, const std::function<void()>& f) {
-    std::vector<double> t;
-    for (int i = 0; i < n; ++i) t.push_back(seconds(f));
-    std::sort(t.begin(), t.end());
-    return t[t.size() / 2];
-}
 
 Image cached(const std::string& path, const std::function<ImageSet()>& make) {
     if (!fs::exists(path)) {
@@ -208,42 +194,11 @@ void accuracy(const std::string& out, const std::string& cache, int W, int H, st
     cv::imwrite(out + "/bokeh_highlights.png", all);
 }
 
-// Two layers at 1920x1080 blurred by a constant R: a textured opaque
-// background and a foreground disc in front of it.
-std::vector<Layer> cost_layers(const Roi& frame) {
-    std::vector<Layer> layers(2);
-    const double cx = frame.width() * 0.5, cy = frame.height() * 0.5, r = frame.height() * 0.3;
-    for (int k = 0; k < 2; ++k) {
-        Layer& l = layers[std::size_t(k)];
-        l.image = Image(std::vector<ChannelSpec>{{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, frame, frame);
-        l.depth_near = l.depth_far = k == 0 ? 2.0 : 10.0;
-        for (int y = frame.y0; y < frame.y1; ++y)
-            for (int x = frame.x0; x < frame.x1; ++x) {
-                const bool in = std::hypot(x + 0.5 - cx, y + 0.5 - cy) < r;
-                if (k == 0 && !in) {
-                    l.image.at(4, x, y) = std::nanf("");
-                    continue;
-                }
-                const float t = float(((x / 16) + (y / 16)) % 2);
-                l.image.at(0, x, y) = k == 0 ? 0.8f : t;
-                l.image.at(1, x, y) = k == 0 ? 0.2f : 0.5f;
-                l.image.at(2, x, y) = k == 0 ? 0.1f : 1.0f - t;
-                l.image.at(3, x, y) = 1.0f;
-                l.image.at(4, x, y) = float(l.depth_near);
-            }
-    }
-    return layers;
-}
-
 void cost(const std::string& out, std::ostream& table) {
     const Roi frame{0, 0, 1920, 1080};
     std::fprintf(stderr, "== cost against R, %dx%d\n", frame.width(), frame.height());
-    const std::vector<Layer> layers = cost_layers(frame);
-    CameraDesc d;
-    d.display_window = frame;
-    d.focal_length_mm = 35.0;
-    d.sensor_width_mm = 36.0;
-    const Camera cam = take(Camera::create(d), "camera");
+    const std::vector<Layer> layers = bench::cost_layers(frame);
+    const Camera cam = bench::cost_camera(frame);
     // The memory floor: one copy of the two layers' R, G, B, A.
     std::vector<float> dst(4 * 2 * frame.npixels());
     const double copy = median_of(5, [&] {
@@ -264,11 +219,7 @@ void cost(const std::string& out, std::ostream& table) {
           << " ms in the same run.\n\n| R (px) | --diffuse (s) | --bokeh disc (s) | --bokeh polygon:6 (s) | bokeh / diffuse |\n"
              "|---:|---:|---:|---:|---:|\n";
     for (int R : {4, 8, 16, 24, 32, 48, 64}) {
-        char fj[256];
-        std::snprintf(fj, sizeof fj,
-                      R"({"blurfield": {"kind": "region", "shape": "box", "mode": "blur", "blur": %d, "min": [-1e6, -1e6, 0.1], "max": [1e6, 1e6, 1e6]}})",
-                      R);
-        const BlurField field = take(BlurField::parse(fj), "field");
+        const BlurField field = bench::constant_blur(R);
         DefocusOptions diff, disc, hex;
         disc.filter = hex.filter = DefocusFilter::Bokeh;
         hex.aperture = hexagon();

@@ -199,6 +199,13 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
         {"negative_blur.json", [](Fixtures&, const std::string& p) {
              write_text(p, R"({"blurfield": {"kind": "focal_planes", "depths": [3], "max_blur": -2}})");
          }},
+        {"psf_unknown_key.json", [](Fixtures&, const std::string& p) {
+             write_text(p, R"({"psf_field": {"kind": "sum", "children": [{"kind": "defocus"}, {"kind": "swirl", "strenght": 2}]}})");
+         }},
+        {"psf_missing_map.json", [](Fixtures&, const std::string& p) {
+             write_text(p, R"({"psf_field": {"kind": "blend", "weight": {"kind": "image_map", "image": "no_such_weight.exr", "scale": 1},
+                                              "children": [{"kind": "defocus"}, {"kind": "swirl"}]}})");
+         }},
         {"missing_mask.json", [](Fixtures&, const std::string& p) {
              write_text(p, R"({"blurfield": {"kind": "image_map", "image": "no_such_mask.exr", "scale": 3}})");
          }},

@@ -7,54 +7,10 @@
 #include <chrono>
 
 #include "gdof/defocus.h"
-#include "ofx/ofx_test_support.h"
+#include "ofx/ofx_defocus_fixture.h"
 
 using namespace gdof::test;
-
-namespace {
-
-constexpr int W = 96, H = 64;
-constexpr OfxPointD kFull{1, 1};
-
-// Two focal planes (the disc at 2.2 and the far ground at 12), up to 6 px between, clamped at 8 px.
-const char* kPlanesJson = R"({"blurfield": {"kind": "focal_planes", "depths": [2.2, 12], "max_blur": 6, "slope": 3,
-                               "interpolation": "smooth"}, "max_radius": 8})";
-
-void set_planes(Instance& fx) {
-    fx.set_choice("kind", "focal_planes");
-    fx.set_int("depths_count", 2);
-    fx.set("depths_1", 2.2);
-    fx.set("depths_2", 12);
-    fx.set("max_blur", 6);
-    fx.set("slope", 3);
-    fx.set_choice("interpolation", "smooth");
-    fx.set("max_radius", 8);
-}
-
-struct Fixture {
-    Plate plate = make_plate(W, H);
-    Session s{kDefocusId, W, H};
-    ScratchDir dir;
-    Fixture() {
-        if (!s.ok()) return;
-        s.fx->connect("Source", plate_clip(plate, "rgba"));
-        s.fx->connect("Depth", plate_clip(plate, "depth"));
-        s.fx->set_choice("depth_channel", "A");
-    }
-    // gdof --diffuse on the plate (no camera attributes: the lens flags give the camera).
-    std::string cli(const std::string& field_json, const std::string& extra = "", bool with_p = false,
-                    const std::string& op = "--diffuse") {
-        const std::string in = dir.file("plate.exr"), field = dir.file("field.json"), out = dir.file("cli.exr");
-        write_plate(plate, in, with_p);
-        write_text(field, field_json);
-        auto r = run_gdof(quote(in) + " --focal-length-mm 50 --sensor-width-mm 36 " + extra + " --blurfield " +
-                          quote(field) + " " + op + " -o " + quote(out));
-        EXPECT_EQ(r.exit_code, 0) << r.output;
-        return out;
-    }
-};
-
-}  // namespace
+using namespace gdof::test::defocus_fixture;
 
 TEST(ofx_defocus, FocalPlanesEqualCliDiffuseTo1e5) {
     Fixture f;
@@ -245,12 +201,7 @@ TEST(ofx_defocus, FourTilesEqualTheWholeRender) {
     Fixture f;
     ASSERT_TRUE(f.s.ok());
     set_planes(*f.s.fx);
-    const Rendered whole = f.s.fx->render(0, kFull);
-    ASSERT_EQ(whole.status, kOfxStatOK) << f.s.fx->persistent_message();
-    const Rendered tiled = f.s.fx->render(0, kFull, quadrants(whole.bounds));
-    ASSERT_EQ(tiled.status, kOfxStatOK) << f.s.fx->persistent_message();
-    const Rendered concurrent = f.s.fx->render(0, kFull, quadrants(whole.bounds), true);
-    ASSERT_EQ(concurrent.status, kOfxStatOK) << f.s.fx->persistent_message();
+    const auto [whole, tiled, concurrent] = render_tiled(*f.s.fx);
     const double d = max_diff(whole, tiled);
     std::printf("4 tiles vs whole: max |diff| = %.3g (concurrent tiles: %.3g)\n", d, max_diff(whole, concurrent));
     // The library's documented bound for a sub-region (docs/diffusion.md): 1e-4 of the peak (1 here).

@@ -129,7 +129,8 @@ TEST(ofx_describe, DefocusParametersMirrorTheBlurFieldWithJsonAndCliNames) {
         {"depth_near", kOfxParamTypeDouble},    {"depth_far", kOfxParamTypeDouble},
         {"solver", kOfxParamTypeChoice},        {"adi_steps", kOfxParamTypeInteger},
         {"layers", kOfxParamTypeInteger},       {"analysis", kOfxParamTypeChoice},
-        {"cut_by_blur", kOfxParamTypeBoolean},
+        {"cut_by_blur", kOfxParamTypeBoolean},  {"filter", kOfxParamTypeChoice},
+        {"psf_field", kOfxParamTypeString},     {"psf_samples", kOfxParamTypeInteger},
     };
     for (const Expect& x : expected) {
         const PropertySet* p = param(e, x.name);
@@ -151,6 +152,11 @@ TEST(ofx_describe, DefocusParametersMirrorTheBlurFieldWithJsonAndCliNames) {
     EXPECT_EQ(param(e, "depth_encoding")->strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"metric", "inverse", "scaled", "near_far_linear", "near_far_inverse"}));
     EXPECT_EQ(param(e, "analysis")->strings(kOfxParamPropChoiceOption), (std::vector<std::string>{"frame", "region"}));
+    // The three filters, as the CLI's --diffuse, --bokeh and --vibrate (saved by index: new ones last).
+    EXPECT_EQ(param(e, "filter")->strings(kOfxParamPropChoiceOption),
+              (std::vector<std::string>{"diffusion", "bokeh", "vibrate"}));
+    EXPECT_EQ(param(e, "psf_field")->str(kOfxParamPropStringMode), kOfxParamStringIsFilePath);
+    EXPECT_EQ(param(e, "psf_samples")->integer(kOfxParamPropDefault), 0) << "0: automatic, as --psf-samples";
     EXPECT_EQ(param(e, "focal_length_mm")->dbl(kOfxParamPropDefault), 50.0);
     EXPECT_EQ(param(e, "sensor_width_mm")->dbl(kOfxParamPropDefault), 36.0);
     EXPECT_EQ(param(e, "scene_unit_mm")->dbl(kOfxParamPropDefault), 1000.0);

@@ -13,6 +13,8 @@
 //            strength * B(x) * (rho / half diagonal)^power * u_t,
 //            u_t = the sample's component along the tangent at x
 //   depth    dz = offset + distance * u  (along the viewing ray: visibility only)
+//   image_map  scale * M(x) * (u, -v), M a painted map's 1, 2 or 4 channels:
+//            an isotropic scale, per-axis scales or a 2x2 matrix (px per unit aperture)
 //   sum      the children's displacements added
 //   blend    (1 - w(x)) * children[0] + w(x) * children[1], w = a blur field's
 //            value at x clamped to [0, 1] (a region, an image_map, ...)

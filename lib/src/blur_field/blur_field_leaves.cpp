@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "blur_field/blur_field_nodes.h"
+#include "blur_field/context_image.h"
 
 namespace gdof::bf {
 
@@ -210,19 +211,12 @@ public:
 
     double value(const Camera& cam, double px, double py) const {
         if (std::isnan(px) || std::isnan(py)) return kNaN;
-        const Roi& cd = cam.display_window();
-        const Roi& md = img_->display_window();
-        const Roi& dw = img_->data_window();
-        if (dw.empty()) return 0.0;
         // Camera display window -> map display window, then to sample space
         // (pixel centres at +0.5).
-        const double u = md.x0 + (px - cd.x0) * (double(md.width()) / cd.width()) - 0.5;
-        const double v = md.y0 + (py - cd.y0) * (double(md.height()) / cd.height()) - 0.5;
-        const double uc = std::clamp(u, double(dw.x0), double(dw.x1 - 1));
-        const double vc = std::clamp(v, double(dw.y0), double(dw.y1 - 1));
-        const int x0 = int(std::floor(uc)), y0 = int(std::floor(vc));
-        const int x1 = std::min(x0 + 1, dw.x1 - 1), y1 = std::min(y0 + 1, dw.y1 - 1);
-        const double fx = uc - x0, fy = vc - y0;
+        const blur_field_detail::MapTaps taps = blur_field_detail::map_taps(*img_, cam.display_window(), px, py);
+        if (!taps.ok) return 0.0;
+        const int x0 = taps.x0, y0 = taps.y0, x1 = taps.x1, y1 = taps.y1;
+        const double fx = taps.fx, fy = taps.fy;
         auto at = [&](int x, int y) {
             const double s = img_->sample(channel_, x, y);
             return std::isnan(s) || s < 0 ? 0.0 : s;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "blur_field/blur_field_nodes.h"
+#include "blur_field/context_image.h"
 #include "common/json_read.h"
 
 namespace gdof {
@@ -172,20 +173,7 @@ private:
         const std::string ref = o.get("image").string();
         const double scale = number_or(o, "scale", 1.0);
         check_at_least(scale, 0, o.path("scale"));
-        std::shared_ptr<const Image> img;
-        if (auto it = ctx_.images.find(ref); it != ctx_.images.end()) {
-            img = it->second;
-        } else if (ctx_.load_image) {
-            std::filesystem::path p(ref);
-            if (p.is_relative() && !ctx_.base_dir.empty()) p = std::filesystem::path(ctx_.base_dir) / p;
-            auto r = ctx_.load_image(p.string());
-            if (!r) fail(o.path("image"), "cannot load \"" + p.string() + "\": " + r.message(), r.status().code());
-            img = r.value();
-        } else {
-            fail(o.path("image"), "no image named \"" + ref + "\" was supplied (and no image loader is set)",
-                 StatusCode::NotFound);
-        }
-        if (!img) fail(o.path("image"), "image \"" + ref + "\" is null");
+        std::shared_ptr<const Image> img = blur_field_detail::context_image(ctx_, ref, o.path("image"));
         int channel = -1;
         if (const auto ch = o.find("channel")) {
             const std::string name = ch->string();
@@ -197,10 +185,8 @@ private:
                      StatusCode::NotFound);
             }
         } else {
-            if (img->nchannels() == 0) fail(o.path("image"), "image \"" + ref + "\" has no channels");
             channel = 0;
         }
-        if (img->display_window().empty()) fail(o.path("image"), "image \"" + ref + "\" has an empty display window");
         return bf::make_image_map(std::move(img), channel, scale, ref);
     }
 

@@ -2,6 +2,7 @@
 // keys).
 #include <cmath>
 
+#include "blur_field/context_image.h"
 #include "psf_field/psf_field_nodes.h"
 
 namespace gdof::psf {
@@ -62,6 +63,55 @@ public:
 
 private:
     double offset_, distance_;
+};
+
+// A painted linear map of the aperture sample (image y down): 1 channel an
+// isotropic scale, 2 per-axis scales, 4 a full 2x2 matrix, in pixels per unit
+// aperture. Sampled as the blur field's image_map: the map's display window
+// stretched over the frame, bilinear between pixel centres, clamped at its
+// data window; a non-finite value counts as 0.
+class ImageMap final : public Node {
+public:
+    ImageMap(std::shared_ptr<const Image> map, std::vector<int> channels, double scale, std::string name)
+        : map_(std::move(map)), ch_(std::move(channels)), scale_(scale), name_(std::move(name)) {}
+    PsfDisplacement displace(const PsfPoint& p, double u, double v, const Roi& frame) const override {
+        double m[4] = {0, 0, 0, 0};
+        sample(p.x, p.y, frame, m);
+        const double ax = u, ay = -v;
+        double dx = 0, dy = 0;
+        if (ch_.size() == 1) {
+            dx = m[0] * ax;
+            dy = m[0] * ay;
+        } else if (ch_.size() == 2) {
+            dx = m[0] * ax;
+            dy = m[1] * ay;
+        } else {
+            dx = m[0] * ax + m[1] * ay;
+            dy = m[2] * ax + m[3] * ay;
+        }
+        return {scale_ * dx, scale_ * dy, 0.0};
+    }
+    std::string describe() const override { return "image_map(" + name_ + ")"; }
+
+private:
+    void sample(double px, double py, const Roi& frame, double* out) const {
+        const blur_field_detail::MapTaps t = blur_field_detail::map_taps(*map_, frame, px, py);
+        if (!t.ok) return;
+        for (std::size_t k = 0; k < ch_.size(); ++k) {
+            auto at = [&](int sx, int sy) {
+                const double s = map_->sample(ch_[k], sx, sy);
+                return std::isfinite(s) ? s : 0.0;
+            };
+            const double top = at(t.x0, t.y0) * (1 - t.fx) + at(t.x1, t.y0) * t.fx;
+            const double bot = at(t.x0, t.y1) * (1 - t.fx) + at(t.x1, t.y1) * t.fx;
+            out[k] = top * (1 - t.fy) + bot * t.fy;
+        }
+    }
+
+    std::shared_ptr<const Image> map_;
+    std::vector<int> ch_;
+    double scale_;
+    std::string name_;
 };
 
 std::string list(const std::vector<NodePtr>& c) {
@@ -137,6 +187,9 @@ private:
 NodePtr make_defocus(double scale) { return std::make_shared<Defocus>(scale); }
 NodePtr make_swirl(double strength, double power) { return std::make_shared<Swirl>(strength, power); }
 NodePtr make_depth(double offset, double distance) { return std::make_shared<Depth>(offset, distance); }
+NodePtr make_image_map(std::shared_ptr<const Image> map, std::vector<int> channels, double scale, std::string name) {
+    return std::make_shared<ImageMap>(std::move(map), std::move(channels), scale, std::move(name));
+}
 NodePtr make_sum(std::vector<NodePtr> children) { return std::make_shared<Sum>(std::move(children)); }
 NodePtr make_blend(NodePtr a, NodePtr b, BlurField weight, int weight_index) {
     return std::make_shared<Blend>(std::move(a), std::move(b), std::move(weight), weight_index);

@@ -25,6 +25,10 @@ using NodePtr = std::shared_ptr<const Node>;
 NodePtr make_defocus(double scale);
 NodePtr make_swirl(double strength, double power);
 NodePtr make_depth(double offset, double distance);
+// M(x) (u, -v) * scale, M from `channels` (1, 2 or 4 indices) of the map at
+// the point: s I, diag(sx, sy) or [[m0, m1], [m2, m3]], in pixels per unit
+// aperture; the map's display window stretched over the frame.
+NodePtr make_image_map(std::shared_ptr<const Image> map, std::vector<int> channels, double scale, std::string name);
 NodePtr make_sum(std::vector<NodePtr> children);
 // `weight_index`: this blend's slot in PsfPoint::weights.
 NodePtr make_blend(NodePtr a, NodePtr b, BlurField weight, int weight_index);

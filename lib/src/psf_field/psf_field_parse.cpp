@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blur_field/context_image.h"
 #include "common/json_read.h"
 #include "psf_field/psf_field_nodes.h"
 
@@ -21,7 +22,7 @@ public:
     psf::NodePtr node(const Value& v) {
         const Object kind_only = v.object();
         const std::string kind =
-            kind_only.get("kind").choice({"defocus", "swirl", "depth", "sum", "blend"});
+            kind_only.get("kind").choice({"defocus", "swirl", "depth", "image_map", "sum", "blend"});
         if (kind == "defocus") {
             const Object o = v.object({"kind", "scale", "comment"});
             return psf::make_defocus(number_or(o, "scale", 1.0));
@@ -36,6 +37,7 @@ public:
             const Object o = v.object({"kind", "offset", "distance", "comment"});
             return psf::make_depth(number_or(o, "offset", 0.0), number_or(o, "distance", 0.0));
         }
+        if (kind == "image_map") return image_map(v.object({"kind", "image", "channels", "scale", "comment"}, {"image"}));
         if (kind == "sum") {
             const Object o = v.object({"kind", "children", "comment"}, {"children"});
             std::vector<psf::NodePtr> c;
@@ -59,6 +61,29 @@ private:
     static double number_or(const Object& o, const std::string& key, double fallback) {
         const auto v = o.find(key);
         return v ? v->number() : fallback;
+    }
+
+    // The map read as the blur field's image_map reads its image (a name
+    // supplied by the program, else a file relative to the JSON); its
+    // channels, all of them or those named, must be 1, 2 or 4.
+    psf::NodePtr image_map(const Object& o) {
+        const std::string ref = o.get("image").string();
+        std::shared_ptr<const Image> img = blur_field_detail::context_image(ctx_, ref, o.path("image"));
+        std::vector<int> ch;
+        if (const auto names = o.find("channels")) {
+            for (const Value& n : names->array()) {
+                const int c = img->channel_index(n.string());
+                if (c < 0) n.fail("image \"" + ref + "\" has no channel \"" + n.string() + "\"", StatusCode::NotFound);
+                ch.push_back(c);
+            }
+        } else {
+            for (int c = 0; c < img->nchannels(); ++c) ch.push_back(c);
+        }
+        if (ch.size() != 1 && ch.size() != 2 && ch.size() != 4)
+            json_read::fail(o.path(o.find("channels") ? "channels" : "image"),
+                            "image \"" + ref + "\": " + std::to_string(ch.size()) +
+                                " channels; expected 1 (a scale), 2 (x and y scales) or 4 (a 2x2 matrix)");
+        return psf::make_image_map(std::move(img), std::move(ch), number_or(o, "scale", 1.0), ref);
     }
 
     BlurField weight(const Value& v) {

@@ -164,3 +164,85 @@ TEST(psf_field, ExampleFilesParse) {
     }
     EXPECT_GE(n, 3);
 }
+
+namespace {
+
+// A constant map with the given channel values over a 20x10 display window
+// (half the size of kFrame in each axis: it is stretched over the frame).
+std::shared_ptr<const Image> constant_map(const std::vector<std::string>& names, const std::vector<float>& values) {
+    std::vector<ChannelSpec> specs;
+    for (const auto& n : names) specs.push_back({n});
+    const Roi w{0, 0, 20, 10};
+    auto img = std::make_shared<Image>(specs, w, w);
+    for (int c = 0; c < img->nchannels(); ++c)
+        for (std::size_t i = 0; i < img->npixels(); ++i) img->plane(c)[i] = values[std::size_t(c)];
+    return img;
+}
+
+PsfField parse_with(const std::string& text, const std::string& name, std::shared_ptr<const Image> img) {
+    BlurField::Context ctx;
+    ctx.images[name] = std::move(img);
+    auto f = PsfField::parse(text, ctx);
+    EXPECT_TRUE(f) << f.message();
+    return f ? f.value() : PsfField{};
+}
+
+}  // namespace
+
+// image_map: the map's channels are a linear map of the image-space sample
+// (u, -v) in pixels per unit aperture, times scale.
+TEST(psf_field, ImageMapIsALinearMapOfTheSample) {
+    const PsfPoint p{30.5, 20.5, 4.0, 8.0, nullptr};
+    const PsfField iso = parse_with(R"({"psf_field": {"kind": "image_map", "image": "m", "scale": 2}})", "m",
+                                    constant_map({"Y"}, {3.0f}));
+    PsfDisplacement d = iso.displace(p, 0.5, 0.25, kFrame);
+    EXPECT_DOUBLE_EQ(d.dx, 3.0);   // 2 * 3 * 0.5
+    EXPECT_DOUBLE_EQ(d.dy, -1.5);  // 2 * 3 * -0.25: v up, image y down
+    EXPECT_EQ(iso.describe(), "image_map(m)");
+    const PsfField axes = parse_with(R"({"psf_field": {"kind": "image_map", "image": "m"}})", "m",
+                                     constant_map({"R", "G"}, {12.0f, 6.0f}));
+    d = axes.displace(p, 1.0, -1.0, kFrame);
+    EXPECT_DOUBLE_EQ(d.dx, 12.0);
+    EXPECT_DOUBLE_EQ(d.dy, 6.0);
+    // A full matrix [[2, 1], [0, 3]] on (0.5, -0.25), channels picked by name in matrix order.
+    const PsfField matrix = parse_with(
+        R"({"psf_field": {"kind": "image_map", "image": "m", "channels": ["A", "B", "G", "R"]}})", "m",
+        constant_map({"R", "G", "B", "A"}, {3.0f, 0.0f, 1.0f, 2.0f}));
+    d = matrix.displace(p, 0.5, 0.25, kFrame);
+    EXPECT_DOUBLE_EQ(d.dx, 2.0 * 0.5 + 1.0 * -0.25);
+    EXPECT_DOUBLE_EQ(d.dy, 3.0 * -0.25);
+    EXPECT_DOUBLE_EQ(d.dz, 0.0);
+}
+
+// Sampled as the blur field's image_map: the map's display window stretched
+// over the frame, bilinear between pixel centres.
+TEST(psf_field, ImageMapIsStretchedOverTheFrameAndInterpolated) {
+    auto ramp = std::make_shared<Image>(std::vector<ChannelSpec>{{"Y"}}, Roi{0, 0, 20, 10}, Roi{0, 0, 20, 10});
+    for (int y = 0; y < 10; ++y)
+        for (int x = 0; x < 20; ++x) ramp->at(0, x, y) = float(x);  // value = map column
+    const PsfField f = parse_with(R"({"psf_field": {"kind": "image_map", "image": "m"}})", "m", ramp);
+    // kFrame is 200 wide: frame x = 10 * (map x + 0.5); frame x 105 is map x 10 (a pixel centre),
+    // frame x 110 half way between map columns 10 and 11.
+    EXPECT_DOUBLE_EQ(f.displace({105.0, 50.0, 1.0, 0.0, nullptr}, 1.0, 0.0, kFrame).dx, 10.0);
+    EXPECT_DOUBLE_EQ(f.displace({110.0, 50.0, 1.0, 0.0, nullptr}, 1.0, 0.0, kFrame).dx, 10.5);
+    EXPECT_DOUBLE_EQ(f.displace({1.0, 50.0, 1.0, 0.0, nullptr}, 1.0, 0.0, kFrame).dx, 0.0);  // clamped at the edge
+}
+
+TEST(psf_field, ImageMapErrorsNameTheKeyAndTheImage) {
+    BlurField::Context ctx;
+    ctx.images["rgb"] = constant_map({"R", "G", "B"}, {1, 1, 1});
+    auto three = PsfField::parse(R"({"psf_field": {"kind": "image_map", "image": "rgb"}})", ctx);
+    ASSERT_FALSE(three);
+    EXPECT_NE(three.message().find("psf_field.image"), std::string::npos) << three.message();
+    EXPECT_NE(three.message().find("3 channels"), std::string::npos) << three.message();
+    auto missing = PsfField::parse(R"({"psf_field": {"kind": "image_map", "image": "rgb", "channels": ["R", "Q"]}})", ctx);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.message().find("psf_field.channels[1]"), std::string::npos) << missing.message();
+    EXPECT_NE(missing.message().find("\"Q\""), std::string::npos) << missing.message();
+    auto nofile = PsfField::parse(R"({"psf_field": {"kind": "image_map", "image": "paint.exr"}})");
+    ASSERT_FALSE(nofile);
+    EXPECT_NE(nofile.message().find("psf_field.image"), std::string::npos) << nofile.message();
+    EXPECT_NE(nofile.message().find("paint.exr"), std::string::npos) << nofile.message();
+    EXPECT_NE(parse_error(R"({"psf_field": {"kind": "image_map", "image": "rgb", "scal": 1}})").find("psf_field.scal"),
+              std::string::npos);
+}

@@ -1,11 +1,10 @@
 // Blur-field files with their masks (gdof/io/blur_field_io.h).
 #include "gdof/io/blur_field_io.h"
 
-#include <filesystem>
 #include <memory>
 
+#include "blurfield/field_file.h"
 #include "gdof/io/image_io.h"
-#include "gdof/text_file.h"
 
 namespace gdof::io {
 
@@ -26,17 +25,6 @@ Result<BlurField> parse_blur_field(const std::string& json_text, const std::stri
     return BlurField::parse(json_text, blur_field_context(base_dir));
 }
 
-Result<BlurField> read_blur_field(const std::string& path) {
-    auto text = read_text(path);
-    if (!text) return text.status();
-    std::error_code ec;
-    const std::string dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path().string();
-    auto field = parse_blur_field(*text, dir);
-    if (!field) {
-        Status st = field.status();
-        return st.prefix("'" + path + "'");
-    }
-    return field;
-}
+Result<BlurField> read_blur_field(const std::string& path) { return read_field_file(path, parse_blur_field); }
 
 }  // namespace gdof::io
