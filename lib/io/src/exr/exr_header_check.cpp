@@ -80,9 +80,10 @@ Status check_exr_header_sizes(const std::string& path, std::uint64_t file_size) 
     unsigned char head[8];
     if (!in.read(reinterpret_cast<char*>(head), 8)) return Status::ok();
     if (le32(head) != kMagic) return Status::ok();
-    const std::uint32_t flags = head[5] | head[6] << 8 | std::uint32_t(head[7]) << 16;
-    const bool multipart = (flags & kMultipartFlag) != 0;
-    const bool single_part_tiled = !multipart && (flags & kSinglePartTiledFlag) != 0;
+    // The version field: the version number in its low byte, the flags above.
+    const std::uint32_t version = le32(head + 4);
+    const bool multipart = (version & kMultipartFlag) != 0;
+    const bool single_part_tiled = !multipart && (version & kSinglePartTiledFlag) != 0;
     const std::string where = "'" + path + "': file is truncated or corrupt (";
     std::vector<PartLayout> parts;
     for (int part = 0;; ++part) {
