@@ -27,6 +27,26 @@ bool read_name(std::ifstream& in, std::string& s) {
     return false;
 }
 
+// The size of an attribute value of a fixed-size type, 0 for the others.
+// OpenEXR reads such a value at its type's size whatever the header
+// declares, and so reads the rest of the header from another place than the
+// declared sizes say (an attribute found there declared 1.6 GB).
+std::int32_t fixed_size(const std::string& type) {
+    struct Known {
+        const char* type;
+        std::int32_t size;
+    };
+    static constexpr Known kKnown[] = {
+        {"int", 4},       {"float", 4},        {"double", 8},        {"compression", 1}, {"lineOrder", 1},
+        {"envmap", 1},    {"deepImageState", 1}, {"tiledesc", 9},    {"box2i", 16},      {"box2f", 16},
+        {"v2i", 8},       {"v2f", 8},          {"v2d", 16},          {"v3i", 12},        {"v3f", 12},
+        {"v3d", 24},      {"m33f", 36},        {"m33d", 72},         {"m44f", 64},       {"m44d", 128},
+        {"chromaticities", 32}, {"keycode", 28}, {"timecode", 8},    {"rational", 8}};
+    for (const Known& k : kKnown)
+        if (type == k.type) return k.size;
+    return 0;
+}
+
 std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24; }
 
 // What the size checks need of one header. Values OpenEXR rejects itself (no
@@ -102,6 +122,9 @@ Status check_exr_header_sizes(const std::string& path, std::uint64_t file_size) 
                 return Status::error(where + "header attribute '" + name + "' of type " + type + " declares " +
                                      std::to_string(size) + " bytes, more than the " + std::to_string(file_size - at) +
                                      " left in the file)");
+            if (const std::int32_t fixed = fixed_size(type); fixed != 0 && size != fixed)
+                return Status::error(where + "header attribute '" + name + "' of type " + type + " declares " +
+                                     std::to_string(size) + " bytes, a " + type + " has " + std::to_string(fixed) + ")");
             if (!read_layout_value(in, name, type, size, layout)) in.seekg(std::streamoff(at) + size);
         }
         // A single-part file has one header; a multipart file's list ends with an empty one.
