@@ -27,11 +27,20 @@ inline std::pair<std::string, std::string> split(const std::string& s, std::stri
     return {s.substr(0, at), s.substr(at + marker.size())};
 }
 
+// The folder for scratch files: $TMPDIR, else /dev/shm where it is (memory:
+// on a disk file system, rewriting a file per input costs a flush on every
+// close, which made fuzz_exr 2.7 and fuzz_obj 5 times slower per input), else /tmp.
+inline std::string scratch_base() {
+    if (const char* tmp = std::getenv("TMPDIR"); tmp && *tmp) return tmp;
+    std::error_code ec;
+    if (std::filesystem::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0) return "/dev/shm";
+    return "/tmp";
+}
+
 inline const std::string& scratch_dir() {
     // Never freed: the exit handler that removes the folder runs after static destructors.
     static const std::string& dir = *new std::string([] {
-        const char* tmp = std::getenv("TMPDIR");
-        std::string base = std::string(tmp && *tmp ? tmp : "/tmp") + "/gdof_fuzz_" + std::to_string(::getpid());
+        std::string base = scratch_base() + "/gdof_fuzz_" + std::to_string(::getpid());
         std::filesystem::remove_all(base);
         std::filesystem::create_directories(base);
         std::atexit([] {

@@ -252,3 +252,107 @@ TEST(io_errors, HeaderAttributeLargerThanTheFileIsAnErrorWithoutAllocating) {
         EXPECT_TRUE(ok) << seed << ": " << ok.message();
     }
 }
+
+namespace {
+
+// The offset of the value of header attribute `name` in an EXR file's bytes
+// (the first header holding it), or npos.
+std::size_t attribute_value_at(const std::string& bytes, const std::string& name, const std::string& type) {
+    const std::string key = name + '\0' + type + '\0';
+    const std::size_t at = bytes.find(key);
+    return at == std::string::npos ? at : at + key.size() + 4;
+}
+
+void put_le32(std::string& bytes, std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes[at + std::size_t(i)] = char((v >> (8 * i)) & 0xff);
+}
+
+}  // namespace
+
+// Found by tests/fuzz (fuzz_exr, the file was not kept; remade from the deep
+// tiled seed): a tile of 32768 x 16384 pixels in a 3 x 3 deep tiled image
+// made OpenEXR 3.1's DeepTiledInputFile size its sample count table in an
+// int, which wrapped negative, and ask new[] for that (ASan aborts; a release
+// build got bad_alloc). The header walk now refuses such a tile.
+TEST(io_errors, DeepTileTooLargeForTheFileIsAnErrorBeforeOpenExrSizesIt) {
+    const std::string path = std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/deep_tile_32768x16384.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("deep_tile_32768x16384.exr"), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("a tile of 32768 x 16384 pixels cannot come from a file of 846 bytes"),
+              std::string::npos) << r.message();
+}
+
+// The same walk on files gdof writes itself, then damaged in one field: a
+// flat or deep tiled part whose tile is absurd, a scanline part whose data
+// window needs more chunk offsets than the file has bytes. The untouched
+// files read.
+TEST(io_errors, HeaderTileAndWindowSizesAreCheckedAgainstTheFile) {
+    ScratchDir dir;
+    for (const bool deep : {false, true}) {
+        SCOPED_TRACE(deep ? "deep" : "flat");
+        ImageSet set;
+        if (deep) {
+            DeepImage d = make_deep({0, 0, 30, 20}, {0, 0, 30, 20}, false);
+            d.storage.tile_width = d.storage.tile_height = 8;
+            set.parts = {d};
+        } else {
+            Image a = Image::with_channels({"R", "G"}, {0, 0, 30, 20});
+            a.storage.tile_width = a.storage.tile_height = 8;
+            set.parts = {a};
+        }
+        const std::string good = dir.file(deep ? "deep_tiled.exr" : "tiled.exr");
+        ASSERT_TRUE(io::write_image(good, set));
+        ASSERT_TRUE(io::read_image(good));
+        std::string bytes = read_bytes(good);
+        const std::size_t tiles = attribute_value_at(bytes, "tiles", "tiledesc");
+        ASSERT_NE(tiles, std::string::npos);
+        put_le32(bytes, tiles, 1u << 20);
+        put_le32(bytes, tiles + 4, 1u << 20);
+        const std::string bad = dir.file("bad_tile.exr");
+        write_bytes(bad, bytes);
+        auto r = io::read_image(bad);
+        ASSERT_FALSE(r);
+        EXPECT_NE(r.message().find("'" + bad + "'"), std::string::npos) << r.message();
+        EXPECT_NE(r.message().find("a tile of 1048576 x 1048576 pixels"), std::string::npos) << r.message();
+    }
+    // Scan lines: 2^30 rows need at least 2^30 / 256 offsets of 8 bytes, 32 MB.
+    Image flat = Image::with_channels({"Y"}, {0, 0, 16, 16});
+    const std::string good = dir.file("scanlines.exr");
+    ASSERT_TRUE(io::write_flat(good, flat));
+    std::string bytes = read_bytes(good);
+    const std::size_t window = attribute_value_at(bytes, "dataWindow", "box2i");
+    ASSERT_NE(window, std::string::npos);
+    put_le32(bytes, window + 12, (1u << 30) - 1);  // max.y
+    const std::string bad = dir.file("tall.exr");
+    write_bytes(bad, bytes);
+    auto r = io::read_image(bad);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("need at least 4194304 chunks"), std::string::npos) << r.message();
+}
+
+// Found by tests/fuzz (fuzz_exr, a slow unit: 1.4 s and 1.7 GB resident in
+// the release build for an 889-byte file): the header walk read the version
+// field's flags one byte off, so it took every multipart file for a
+// single-part one and walked only its first header; this file's second
+// header declares a 1677721619-byte string, which OpenEXR allocated.
+TEST(io_errors, SecondHeaderOfAMultipartFileIsWalkedToo) {
+    const std::string path =
+        std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/multipart_second_header_declares_1.6gb.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("attribute 'capDate'"), std::string::npos) << r.message();
+    EXPECT_NE(r.message().find("declares 1677721619 bytes"), std::string::npos) << r.message();
+}
+
+// Found by tests/fuzz (fuzz_exr, a 14 s timeout under ASan for a 248-byte
+// file): its dataWindow, a box2i, declares 7 bytes; OpenEXR reads 16
+// regardless, so it parsed the rest of the header from elsewhere than the
+// declared sizes say and allocated 1.6 GB for an attribute found there.
+TEST(io_errors, FixedSizeAttributeDeclaringAnotherSizeIsAnError) {
+    const std::string path = std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/box2i_declared_7_bytes.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("attribute 'dataWindow' of type box2i declares 7 bytes, a box2i has 16"),
+              std::string::npos) << r.message();
+}

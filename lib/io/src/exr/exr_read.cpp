@@ -81,10 +81,8 @@ std::vector<ChannelSpec> ordered_channels(const Imf::ChannelList& list, const st
 }
 
 void check_size(std::uint64_t bytes, std::uint64_t file_size, const std::string& path, const char* what) {
-    // Compressed data cannot be arbitrarily smaller than its pixels; a header
-    // that claims otherwise is corrupt (and must not make us allocate it).
-    const std::uint64_t limit = file_size * 4096ull + (std::uint64_t(64) << 20);
-    if (bytes > limit)
+    // A header that claims more is corrupt (and must not make us allocate it).
+    if (bytes > decoded_bytes_limit(file_size))
         throw ReadError{quoted(path) + ": file is truncated or corrupt (" + what + " of " + std::to_string(bytes) +
                         " bytes cannot come from a file of " + std::to_string(file_size) + " bytes)"};
 }
