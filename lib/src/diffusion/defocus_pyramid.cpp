@@ -237,7 +237,7 @@ void copy_box(const float* const planes[4], const Roi& box, std::size_t row_stri
               std::vector<float>& out) {
     const std::size_t n = box.npixels();
     const std::size_t W = std::size_t(box.width());
-    out.resize(4 * n);  // every element written below
+    out.resize(4 * n);  // a plain vector: new elements are zeroed first (sol and the grids share its type)
     parallel_for(exec, box.height(), [&](long r0, long r1) {
         for (long y = r0; y < r1; ++y)
             for (int c = 0; c < 4; ++c)
