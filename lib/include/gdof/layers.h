@@ -224,7 +224,9 @@ struct ExtendOptions {
     // to be empty (not hidden, no coverage: in a deep render the ray passed
     // the layer's depths without a hit) with 0. So a small isolated object
     // (a highlight) does not grow an opaque patch behind an occluder that
-    // the occluder's blurred edge would reveal. Deep inputs.
+    // the occluder's blurred edge would reveal. Deep inputs and plates; with
+    // farthest_fills_frame the farthest layer's backing fades likewise toward
+    // the pixels where no layer has a sample.
     bool continue_coverage = false;
     // Optional, with `owner`: per frame pixel, the distance to the owner's own
     // coverage (what the owners were chosen by), so that a layer's reach

@@ -184,8 +184,11 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     }
     wgeo = {};
     // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
+    // For the layer that fills the frame, seen empty is where no layer has a
+    // sample (a render's transparent background): its backing fades there
+    // instead of showing its far colour behind the edge of a nearer surface.
     Buffer cover, wcover;
-    const bool coverage_continues = opt.continue_coverage && !fills_frame;
+    const bool coverage_continues = opt.continue_coverage;
     if (coverage_continues) {
         cover.resize(wn);
         wcover.resize(wn);

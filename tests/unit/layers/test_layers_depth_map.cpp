@@ -154,8 +154,12 @@ TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
     const Image& far = (*r)[2].image;
     EXPECT_EQ((*r)[1].depth_near, 5.0);
     // Disc pixels (hidden behind the front slice): the middle slice covers
-    // those within 3 px of the box and nearer to it than to the wall,
-    // opaquely, with the box's colour and depth.
+    // those within 3 px of the box and nearer to it than to the wall, with
+    // the box's colour and depth, and its coverage continued (layers.h,
+    // continue_coverage): 1 on the box, 0 where the wall is seen, so it fades
+    // from the box toward the wall.
+    double near_sum = 0, far_sum = 0;
+    int near_n = 0, far_n = 0;
     for (int y = kWin.y0; y < kWin.y1; ++y)
         for (int x = kWin.x0; x < kWin.x1; ++x) {
             if (!in_disc(x, y)) continue;
@@ -171,15 +175,22 @@ TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
                     if (!in_disc(wx, wy) && !in_box(wx, wy)) dw = std::min(dw, std::hypot(double(x - wx), double(y - wy)));
             const float a = at_or(mid, 3, x, y, 0.0f);
             if (d <= 3.0 && d <= dw) {
-                ASSERT_EQ(a, 1.0f) << x << "," << y;
-                EXPECT_NEAR(mid.at(2, x, y), 0.9f, 1e-5f);
+                ASSERT_GT(a, 0.0f) << x << "," << y;
+                ASSERT_LE(a, 1.0f) << x << "," << y;
+                EXPECT_NEAR(mid.at(2, x, y), 0.9f * a, 1e-5f);  // premultiplied
                 EXPECT_NEAR(mid.at(4, x, y), 5.0f, 1e-5f);
+                (d <= 1.5 ? near_sum : far_sum) += a;
+                ++(d <= 1.5 ? near_n : far_n);
             } else {
                 ASSERT_EQ(a, 0.0f) << x << "," << y << " d=" << d;
             }
-            // The farthest slice covers every hidden pixel.
+            // The farthest slice covers every hidden pixel: an opaque plate
+            // is never seen empty, so its backing stays opaque.
             ASSERT_EQ(far.at(3, x, y), 1.0f);
         }
+    ASSERT_GT(near_n, 0);
+    ASSERT_GT(far_n, 0);
+    EXPECT_GT(near_sum / near_n, far_sum / far_n + 0.05);
     // Wall pixels are not hidden: the middle slice never covers them.
     EXPECT_EQ(at_or(mid, 3, 33, 10, 0.0f), 0.0f);
     // Box pixels are hidden for the far slice: covered, wall depth.
@@ -190,6 +201,42 @@ TEST(layers_depth_map, ExtensionReachesExtendPxBehindMiddleSlices) {
     auto r0 = layers_from_depth_map(scene(true), none);
     ASSERT_TRUE(r0) << r0.message();
     EXPECT_EQ((*r0)[1].image.data_window(), (Roi{34, 10, 46, 22}));
+}
+
+// A render's plate with a transparent background (no sample left of x = 22
+// but the disc, whose left half borders it): the wall backs the disc as an opaque plate
+// would only away from that emptiness. Near it the backing fades (continued
+// coverage), so the disc blurred out over the void shows its own colour
+// there, not the wall's continued behind its edge.
+TEST(layers_depth_map, FarthestBackingFadesTowardEmptiness) {
+    Image img = scene();
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < 22; ++x)
+            if (!in_disc(x, y))
+                for (int c = 0; c < 4; ++c) img.at(c, x, y) = 0.0f;
+    SliceOptions opt;
+    opt.extend_px = 12;
+    auto r = layers_from_depth_map(img, opt);
+    ASSERT_TRUE(r) << r.message();
+    ASSERT_EQ(r->size(), 2u);
+    const Image& far = (*r)[1].image;
+    double left = 0, right = 0;
+    int nleft = 0, nright = 0, partial = 0;
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            if (!in_disc(x, y)) continue;
+            const float a = at_or(far, 3, x, y, 0.0f);
+            ASSERT_GE(a, 0.0f);
+            ASSERT_LE(a, 1.0f);
+            if (a > 0.0f && a < 0.9f) ++partial;
+            if (x <= 20) left += a, ++nleft;
+            if (x >= 30) right += a, ++nright;
+        }
+    ASSERT_GT(nleft, 0);
+    ASSERT_GT(nright, 0);
+    EXPECT_GT(partial, 0);
+    EXPECT_GT(right / nright, 0.9);
+    EXPECT_LT(left / nleft, right / nright - 0.2);
 }
 
 TEST(layers_depth_map, InvalidDepthGoesToTheFarthestSlice) {
