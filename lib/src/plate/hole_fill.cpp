@@ -14,6 +14,8 @@
 //      image for any plane in the world, so floors and walls are continued
 //      exactly, not flattened; a poorly conditioned fit falls back to the
 //      surface's weighted mean.
+// A pixel whose window holds nothing of its colour looks further
+// (kWideWindow) before falling back to the window's best guess.
 // Rings are computed one after another, the pixels of a ring in parallel:
 // each reads only earlier rings, so the result does not depend on the
 // thread count.
@@ -31,6 +33,14 @@ namespace {
 constexpr int kWindow = 3;             // 7x7
 constexpr double kSpatialSigma = 2.0;  // px
 constexpr double kColourSigma = 0.05;  // in sqrt(colour)
+// When nothing in the 7x7 window looks like the pixel (its best colour
+// affinity below kColourMatch, 2 sigma), the surface it belongs to is not in
+// reach yet: a thin pole crossed by a hole would otherwise take the ground's
+// depth from the hole's edge. The wide window then looks for it further, with
+// a spatial weight that lets colour decide.
+constexpr int kWideWindow = 12;
+constexpr double kWideSpatialSigma = 6.0;
+const double kColourMatch = std::exp(-2.0);
 constexpr double kSameSurface = 1.10;  // depth ratio to the median: the same surface
 
 struct Candidate {
@@ -138,6 +148,7 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
         }
     }
     const double inv_s = 1.0 / (2 * kSpatialSigma * kSpatialSigma);
+    const double inv_wide = 1.0 / (2 * kWideSpatialSigma * kWideSpatialSigma);
     const double inv_c = 1.0 / (2 * kColourSigma * kColourSigma);
     for (std::size_t r = 1; r < rings.size(); ++r) {
         const std::vector<int>& pixels = rings[r];
@@ -146,25 +157,37 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
             for (long k = b; k < e; ++k) {
                 const int i = pixels[std::size_t(k)];
                 const int x = i % W, y = i / W;
-                cand.clear();
-                for (int dy = -kWindow; dy <= kWindow; ++dy)
-                    for (int dx = -kWindow; dx <= kWindow; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                        const int j = yy * W + xx;
-                        const int rj = ring[std::size_t(j)];
-                        if (rj < 0 || std::size_t(rj) >= r) continue;
-                        double w = std::exp(-(dx * dx + dy * dy) * inv_s);
-                        if (!guide.empty()) {
-                            double dc = 0;
-                            for (int c = 0; c < 3; ++c) {
-                                const double v = guide.c[c][std::size_t(i)] - guide.c[c][std::size_t(j)];
-                                dc += v * v;
+                // The known pixels (earlier rings) within `radius`; returns
+                // the best colour affinity among them.
+                auto gather = [&](int radius, double inv_spatial) {
+                    cand.clear();
+                    double best = 0;
+                    for (int dy = -radius; dy <= radius; ++dy)
+                        for (int dx = -radius; dx <= radius; ++dx) {
+                            const int xx = x + dx, yy = y + dy;
+                            if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
+                            const int j = yy * W + xx;
+                            const int rj = ring[std::size_t(j)];
+                            if (rj < 0 || std::size_t(rj) >= r) continue;
+                            double w = std::exp(-(dx * dx + dy * dy) * inv_spatial);
+                            if (!guide.empty()) {
+                                double dc = 0;
+                                for (int c = 0; c < 3; ++c) {
+                                    const double v = guide.c[c][std::size_t(i)] - guide.c[c][std::size_t(j)];
+                                    dc += v * v;
+                                }
+                                const double affinity = std::exp(-dc * inv_c);
+                                best = std::max(best, affinity);
+                                w *= affinity + 1e-6;  // never all zero
                             }
-                            w *= std::exp(-dc * inv_c) + 1e-6;  // never all zero
+                            cand.push_back({depth[std::size_t(j)], w, dx, dy});
                         }
-                        cand.push_back({depth[std::size_t(j)], w, dx, dy});
-                    }
+                    return best;
+                };
+                if (gather(kWindow, inv_s) < kColourMatch && !guide.empty()) {
+                    const std::vector<Candidate> near = cand;
+                    if (!(gather(kWideWindow, inv_wide) >= kColourMatch)) cand = near;  // nothing alike further either
+                }
                 // Ring r always has a 4-neighbour in ring r - 1.
                 sorted = cand;
                 depth[std::size_t(i)] = continue_surface(cand, weighted_median(sorted));
