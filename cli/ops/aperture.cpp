@@ -58,7 +58,7 @@ std::vector<Command> aperture_commands() {
     t.push_back({.names = {"--aperture"}, .args = "SHAPE", .kind = Kind::Modifier,
                  .group = "Aperture (--render, --bokeh)",
                  .help = "iris shape: disc (default), polygon:BLADES[:ROTATION_DEG] or image:FILE (a grey or colour "
-                         "kernel), then ,roundness=0..1 ,squeeze=S (anamorphic) ,cats_eye=0..1 (--bokeh only), e.g. "
+                         "kernel), then ,roundness=0..1 ,squeeze=S (anamorphic) ,cats_eye=0..1 (--bokeh, --vibrate), e.g. "
                          "polygon:6:15,roundness=0.2",
                  .run = set_aperture,
                  .check = [](const Step& s) { parse(s); },

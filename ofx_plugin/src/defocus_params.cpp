@@ -134,7 +134,7 @@ void describe_defocus_params(ParamDefiner& d) {
     d.number("squeeze", "Anamorphic Squeeze", a.squeeze, 0.1, 10, 0.5, 2,
              "the shape's width divided by it (2: the oval bokeh of a 2x anamorphic lens)");
     d.number("cats_eye", "Cat's Eye", a.cats_eye, 0, 1, 0, 1,
-             "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye (bokeh only)");
+             "mechanical vignetting: towards the frame corners the shape is cut into a cat's eye (bokeh, vibrate)");
     d.text("psf_field", "PSF Field File", "", kOfxParamStringIsFilePath,
            "vibrate: the PSF-field JSON (defocus, swirl, depth, image_map, sum, blend; as the CLI's --psf-field); empty: "
            "the defocus field, B(x) times the aperture sample");

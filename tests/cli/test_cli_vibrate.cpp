@@ -86,7 +86,7 @@ TEST(cli_vibrate, bad_fields_and_flags_are_clear_errors) {
         {"--psf-samples many --vibrate", "--psf-samples", 2},
         {"--psf-samples 70000 --vibrate", "--psf-samples", 2},
         {"--psf-samples 8", "--psf-samples: no --vibrate follows it", 2},
-        {"--aperture disc,cats_eye=0.5 --vibrate", "cats_eye", 1},
+        {"--aperture disc,cats_eye=1.5 --vibrate", "cats_eye must be in [0, 1]", 2},
     };
     for (const Case& c : cases) {
         const std::string out = dir.file("out.exr");

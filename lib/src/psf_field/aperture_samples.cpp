@@ -29,7 +29,8 @@ Result<std::vector<ApertureSample>> aperture_samples(const Aperture& aperture, i
     if (n < 1 || n > 65536) return Status::error("samples must be 1 to 65536, got " + std::to_string(n), StatusCode::InvalidArgument, "samples");
     if (Status st = validate(aperture); !st) return st;
     if (aperture.position_dependent())
-        return Status::error("cats_eye: the PSF field's aperture cannot vary across the frame yet (use 0)",
+        return Status::error("cats_eye: the shape varies across the frame; sample the aperture without it (vibrate_layers "
+                             "maps each sample onto the cut shape per source)",
                              StatusCode::InvalidArgument, "cats_eye");
     std::vector<ApertureSample> out;
     // The shape's area in (u, v) units, from its mask (pi for the disc).

@@ -38,11 +38,42 @@ struct Scratch {
         : pyramid(out, levels), layers((keep_layers ? nlayers : 1) * 5 * out.npixels()), rgba(4 * out.npixels()) {}
 };
 
+// The cat's eye (Aperture::cats_eye, `amount` > 0): towards the frame's
+// corners the aperture is cut by a unit disc displaced outward by
+// d = amount x (distance from the centre / half diagonal), as --bokeh draws it,
+// and the cut shape is centred back on its source. A sample (u, v) of the
+// uncut aperture is mapped onto that lens: across the cut (along the outward
+// axis) scaled by 1 - d/2, along it by the lens's chord over the disc's at
+// that place, so the samples stay in the same order and every source keeps
+// all of them (its light is not lost, only its shape changes).
+struct CatsEye {
+    double amount = 0, cx = 0, cy = 0, inv_half_diag = 0;
+    CatsEye(double a, const Roi& frame) : amount(a) {
+        cx = 0.5 * (frame.x0 + frame.x1);
+        cy = 0.5 * (frame.y0 + frame.y1);
+        const double hd = 0.5 * std::hypot(double(frame.width()), double(frame.height()));
+        inv_half_diag = hd > 0 ? 1.0 / hd : 0.0;
+    }
+    void map(double x, double y, double& u, double& v) const {
+        const double dx = x - cx, dy = y - cy, rho = std::hypot(dx, dy);
+        if (!(amount > 0.0) || !(rho > 0.0)) return;
+        const double d = std::min(amount * rho * inv_half_diag, 1.999);
+        const double ex = dx / rho, ey = -dy / rho;  // outward in (u, v): v is up
+        const double a = u * ex + v * ey, b = -u * ey + v * ex;
+        const double a2 = a * (1.0 - 0.5 * d);
+        const double disc_chord = std::sqrt(std::max(0.0, 1.0 - a * a));
+        const double t = std::abs(a2) + 0.5 * d, lens_chord = std::sqrt(std::max(0.0, 1.0 - t * t));
+        const double b2 = disc_chord > 1e-12 ? b * std::min(1.0, lens_chord / disc_chord) : 0.0;
+        u = a2 * ex - b2 * ey;
+        v = a2 * ey + b2 * ex;
+    }
+};
+
 // Layer `s` moved for sample (u, v): splatted, resolved and normalised into
 // five planes (R, G, B, A, Z) over the output; returns where anything landed
 // (output-relative pixels; zero and NaN Z elsewhere).
-Roi moved_layer(const Sources& s, const PsfField& field, const Roi& frame, double u, double v, SplatPyramid& p, int nw,
-                 float* out) {
+Roi moved_layer(const Sources& s, const PsfField& field, const Roi& frame, double u0, double v0, const CatsEye& eye,
+                SplatPyramid& p, int nw, float* out) {
     p.clear();
     const Roi R = s.region;
     const int W = R.width();
@@ -54,6 +85,8 @@ Roi moved_layer(const Sources& s, const PsfField& field, const Roi& frame, doubl
             const float z = s.z[i];
             const PsfPoint pt{x, y, std::isfinite(z) ? double(z) : 0.0, double(s.blur[i]),
                               nw > 0 ? &s.weights[i * std::size_t(nw)] : nullptr};
+            double u = u0, v = v0;
+            eye.map(x, y, u, v);
             const PsfDisplacement d = field.displace(pt, u, v, frame);
             const float a = s.a[i];
             m[0] = s.r[i];
@@ -89,7 +122,8 @@ Roi moved_layer(const Sources& s, const PsfField& field, const Roi& frame, doubl
 // (made once), else empty.
 void render_sample(const std::vector<Sources>& layers, const std::vector<std::vector<float>>& still,
                    const std::vector<Roi>& still_box,
-                   const PsfField& field, const Roi& frame, const Roi& out, const ApertureSample& smp, Scratch& sc) {
+                   const PsfField& field, const Roi& frame, const Roi& out, const ApertureSample& smp, const CatsEye& eye,
+                   Scratch& sc) {
     const std::size_t P = out.npixels();
     const int nw = field.weight_count();
     const bool by_depth = field.moves_depth();
@@ -104,7 +138,7 @@ void render_sample(const std::vector<Sources>& layers, const std::vector<std::ve
         Roi box = still_box[std::size_t(l)];
         if (still[std::size_t(l)].empty()) {
             float* buf = sc.layers.data() + (by_depth ? std::size_t(l) * 5 * P : 0);
-            box = moved_layer(s, field, frame, smp.u, smp.v, sc.pyramid, nw, buf);
+            box = moved_layer(s, field, frame, smp.u, smp.v, eye, sc.pyramid, nw, buf);
             v = buf;
         }
         if (by_depth) {
@@ -186,8 +220,12 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
     const int n = options.samples > 0 ? options.samples
                   : field.samples() > 0 ? field.samples()
                                         : automatic_samples(S.max_displacement_px);
+    // The samples of the uncut aperture; the cat's eye maps them per source.
     double spacing = 0.0;
-    auto samples = aperture_samples(aperture, n, options.seed, &spacing);
+    Aperture uncut = aperture;
+    uncut.cats_eye = 0.0;
+    const CatsEye eye(aperture.cats_eye, frame);
+    auto samples = aperture_samples(uncut, n, options.seed, &spacing);
     if (!samples) return samples.status().prefix("vibrate");
     for (Sources& s : layers) set_levels(s, spacing, options.prefilter);
     const int levels = levels_needed(layers);
@@ -211,7 +249,8 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
             for (long i = i0; i < i1; ++i) {
                 const std::size_t l = std::size_t(still_index[std::size_t(i)]);
                 still[l].resize(5 * P);
-                still_box[l] = moved_layer(layers[l], field, frame, 0.0, 0.0, p, field.weight_count(), still[l].data());
+                still_box[l] = moved_layer(layers[l], field, frame, 0.0, 0.0, CatsEye(0.0, frame), p, field.weight_count(),
+                                           still[l].data());
             }
             return Status::ok();
         }, 1, "vibrate");
@@ -226,7 +265,8 @@ Result<Image> vibrate_layers(const std::vector<VibrateLayer>& front_to_back, con
             scratch.push_back(std::make_unique<Scratch>(output, levels, layers.size(), field.moves_depth()));
         Status st = parallel_run(exec, b1 - b0, [&](long i0, long i1) {
             for (long i = i0; i < i1; ++i)
-                render_sample(layers, still, still_box, field, frame, output, (*samples)[std::size_t(b0 + i)], *scratch[std::size_t(i)]);
+                render_sample(layers, still, still_box, field, frame, output, (*samples)[std::size_t(b0 + i)], eye,
+                              *scratch[std::size_t(i)]);
             return Status::ok();
         }, 1, "vibrate");
         if (!st) return st;

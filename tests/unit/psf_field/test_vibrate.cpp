@@ -315,7 +315,7 @@ TEST(vibrate, BadSettingsAreErrorsNamingTheCulprit) {
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("samples"), std::string::npos);
     o = vibrate(8);
-    o.aperture.cats_eye = 0.5;
+    o.aperture.cats_eye = 1.5;  // 0..1 (a cat's eye in range works: test_vibrate_cats_eye)
     r = run({l}, constant_field(display, 2.0), display, o);
     ASSERT_FALSE(r);
     EXPECT_NE(r.message().find("cats_eye"), std::string::npos);
