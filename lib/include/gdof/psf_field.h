@@ -95,7 +95,9 @@ private:
 // sqrt(area / n) so that as close to n points as possible remain (the most
 // even spread: what the prefilter needs to turn N samples into one smooth
 // shape). Deterministic in (aperture, n, seed). `spacing` receives the
-// lattice spacing in aperture units.
+// lattice spacing in aperture units. A cat's eye (a shape that varies across
+// the frame) is an error here: vibrate_layers samples the uncut aperture and
+// maps each sample onto the cut shape per source.
 struct ApertureSample {
     double u = 0.0, v = 0.0;
 };
