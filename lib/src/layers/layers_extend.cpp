@@ -188,7 +188,21 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // sample (a render's transparent background): its backing fades there
     // instead of showing its far colour behind the edge of a nearer surface.
     Buffer cover, wcover;
-    const bool coverage_continues = opt.continue_coverage;
+    // Nothing seen empty and every own pixel opaque (a plate's farthest layer,
+    // the largest): the continued coverage is 1 everywhere, no fill needed.
+    bool coverage_continues = false;
+    if (opt.continue_coverage) {
+        std::vector<unsigned char> row_varies(static_cast<std::size_t>(wh), 0);
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (long y = r0; y < r1; ++y)
+                for (std::size_t wi = std::size_t(y) * ww; wi < std::size_t(y + 1) * ww; ++wi)
+                    if (seen_empty[wi] || (own[wi] && alpha[wi] < 1.0f)) {
+                        row_varies[std::size_t(y)] = 1;
+                        break;
+                    }
+        }, 16);
+        coverage_continues = std::any_of(row_varies.begin(), row_varies.end(), [](unsigned char v) { return v != 0; });
+    }
     if (coverage_continues) {
         cover.resize(wn);
         wcover.resize(wn);
