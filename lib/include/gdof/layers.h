@@ -225,9 +225,14 @@ struct ExtendOptions {
     // the layer's depths without a hit) with 0. So a small isolated object
     // (a highlight) does not grow an opaque patch behind an occluder that
     // the occluder's blurred edge would reveal. Deep inputs and plates; with
-    // farthest_fills_frame the farthest layer's backing fades likewise toward
-    // the pixels where no layer has a sample.
+    // farthest_fills_frame the farthest layer's backing fades likewise.
     bool continue_coverage = false;
+    // With continue_coverage: only the pixels where no layer has a sample (a
+    // render's transparent background) count as seen empty (plates). Where a
+    // farther layer is seen, a plate's extension stays opaque: an opaque
+    // plate's layers are extended as without continue_coverage (the layer's
+    // presence continues, 1 on its own pixels, not their alpha).
+    bool coverage_fades_at_emptiness_only = false;
     // Optional, with `owner`: per frame pixel, the distance to the owner's own
     // coverage (what the owners were chosen by), so that a layer's reach
     // needs no distance transform of its own. Not owned.

@@ -119,7 +119,9 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 // The farthest layer still backs what its owner's reach misses (an
                 // opaque plate stays opaque), but not what borders emptiness.
                 const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
-                if (!hidden && !own[wi]) seen_empty[wi] = 1;
+                const bool empty_here = !opt.coverage_fades_at_emptiness_only ||
+                                        plan.hidden_from[i] == ExtensionPlan::kNeverHidden;
+                if (!hidden && !own[wi] && empty_here) seen_empty[wi] = 1;
                 if (!hidden || own[wi] || !allowed) continue;
                 const float d = fills_frame ? 0.0f : with_owner_distance ? opt.owner_distance[i] : dist[wi];
                 if (fills_frame || d <= opt.extend_px) {
@@ -190,13 +192,16 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     Buffer cover, wcover;
     // Nothing seen empty and every own pixel opaque (a plate's farthest layer,
     // the largest): the continued coverage is 1 everywhere, no fill needed.
+    // Fading at emptiness only (plates), the layer's presence continues, not
+    // its alpha: without emptiness the extension is opaque, as it was.
+    const bool presence_only = opt.coverage_fades_at_emptiness_only;
     bool coverage_continues = false;
     if (opt.continue_coverage) {
         std::vector<unsigned char> row_varies(static_cast<std::size_t>(wh), 0);
         parallel_for(exec, wh, [&](long r0, long r1) {
             for (long y = r0; y < r1; ++y)
                 for (std::size_t wi = std::size_t(y) * ww; wi < std::size_t(y + 1) * ww; ++wi)
-                    if (seen_empty[wi] || (own[wi] && alpha[wi] < 1.0f)) {
+                    if (seen_empty[wi] || (own[wi] && alpha[wi] < 1.0f && !presence_only)) {
                         row_varies[std::size_t(y)] = 1;
                         break;
                     }
@@ -208,7 +213,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
         wcover.resize(wn);
         parallel_for(exec, wh, [&](long r0, long r1) {
             for (std::size_t wi = std::size_t(r0) * ww; wi < std::size_t(r1) * ww; ++wi) {
-                cover[wi] = own[wi] ? alpha[wi] : 0.0f;
+                cover[wi] = own[wi] ? (presence_only ? 1.0f : alpha[wi]) : 0.0f;
                 wcover[wi] = own[wi] || seen_empty[wi] ? 1.0f : 0.0f;
             }
         }, 16);
