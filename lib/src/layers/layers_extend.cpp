@@ -185,15 +185,11 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
         have_depth = push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), exec);
     }
     wgeo = {};
-    // The continued coverage (continue_coverage): own alpha, 0 where seen empty.
-    // For the layer that fills the frame, seen empty is where no layer has a
-    // sample (a render's transparent background): its backing fades there
-    // instead of showing its far colour behind the edge of a nearer surface.
+    // The continued coverage (continue_coverage): own alpha (plates, fading at
+    // emptiness only: own presence, 1), 0 where seen empty. Where nothing is
+    // seen empty and every own pixel is opaque it is 1 everywhere, so the
+    // fill is skipped (an opaque plate's layers, the frame-sized farthest too).
     Buffer cover, wcover;
-    // Nothing seen empty and every own pixel opaque (a plate's farthest layer,
-    // the largest): the continued coverage is 1 everywhere, no fill needed.
-    // Fading at emptiness only (plates), the layer's presence continues, not
-    // its alpha: without emptiness the extension is opaque, as it was.
     const bool presence_only = opt.coverage_fades_at_emptiness_only;
     bool coverage_continues = false;
     if (opt.continue_coverage) {
