@@ -22,6 +22,7 @@
 //             so bokeh turns into the cat's eyes of a real lens's corners.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,32 @@ GDOF_API std::string format_aperture(const Aperture& aperture);
 // squeeze and rotation applied; not the cat's eye). For Image, the kernel's
 // luminance > 0.
 GDOF_API bool aperture_contains(const Aperture& aperture, double u, double v);
+
+// The cat's eye over a frame: at pixel (x, y) the shape is cut by a unit
+// disc whose centre is offset by d = cats_eye x (distance from the frame's
+// centre / half its diagonal), outward, in (u, v) with v up. One definition
+// for every filter that draws it (--bokeh's spans, --vibrate's samples).
+struct CatsEyeCut {
+    double d = 0.0;              // the offset, in aperture radii (0: no cut)
+    double ex = 0.0, ey = 0.0;   // the outward unit direction in (u, v)
+};
+class CatsEyeVignette {
+public:
+    CatsEyeVignette(double cats_eye, const Roi& frame)
+        : amount_(cats_eye), cx_(0.5 * (frame.x0 + frame.x1)), cy_(0.5 * (frame.y0 + frame.y1)) {
+        const double half_diag = 0.5 * std::hypot(double(frame.width()), double(frame.height()));
+        inv_half_diag_ = half_diag > 0.0 ? 1.0 / half_diag : 0.0;
+    }
+    // (x, y) in the frame's absolute pixel coordinates (y down).
+    CatsEyeCut at(double x, double y) const {
+        const double dx = x - cx_, dy = y - cy_, rho = std::hypot(dx, dy);
+        if (!(amount_ > 0.0) || !(rho > 0.0)) return {};
+        return {amount_ * rho * inv_half_diag_, dx / rho, -dy / rho};
+    }
+
+private:
+    double amount_, cx_, cy_, inv_half_diag_ = 0.0;
+};
 
 // The shape's extent row by row, for filters that spread spans: the unit
 // shape (squeeze included, cat's eye not) tabulated over v in [-1, 1] with

@@ -212,20 +212,12 @@ void scatter_kernel(Level& L, const Prepared& P, const Source& s, int colour_cha
     }
 }
 
-struct Frame {
-    double cx = 0, cy = 0, inv_half_diag = 0;  // in the planes' absolute pixels
-};
-
-void set_cats_eye(const Prepared& P, const Frame& F, double full_x, double full_y, Source& s) {
-    const double amount = P.aperture.cats_eye;
-    if (!(amount > 0.0)) return;
-    const double dx = full_x - F.cx, dy = full_y - F.cy;
-    const double rho = std::hypot(dx, dy);
-    if (!(rho > 0.0)) return;
-    const double d = amount * rho * F.inv_half_diag;
+void set_cats_eye(const CatsEyeVignette& vignette, double full_x, double full_y, Source& s) {
+    const CatsEyeCut cut = vignette.at(full_x, full_y);
+    if (!(cut.d > 0.0)) return;
     s.cats_eye = true;
-    s.ou = d * dx / rho;   // outward in u (right)
-    s.ov = -d * dy / rho;  // and in v (up = -y)
+    s.ou = cut.d * cut.ex;
+    s.ov = cut.d * cut.ey;
 }
 
 }  // namespace
@@ -266,10 +258,7 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
             top = std::max(top, int(lvl[i]));
         }
     const Roi fr = frame_in.empty() ? win : frame_in;
-    Frame F;
-    F.cx = 0.5 * (fr.x0 + fr.x1);
-    F.cy = 0.5 * (fr.y0 + fr.y1);
-    F.inv_half_diag = 2.0 / std::hypot(double(fr.width()), double(fr.height()));
+    const CatsEyeVignette vignette(P.aperture.cats_eye, fr);
 
     std::vector<Level> levels(std::size_t(top) + 1);
     for (int k = 0; k <= top; ++k) {
@@ -367,7 +356,7 @@ Status spread_planes(const ImageView& planes, const ConstImageView& radius, cons
                         s.r = double(L.radius_sum[cell]) / w * scale;
                     }
                     s.cats_eye = false;
-                    set_cats_eye(P, F, win.x0 + full_x, win.y0 + full_y, s);
+                    set_cats_eye(vignette, win.x0 + full_x, win.y0 + full_y, s);
                     if (P.spans && k == 0 && !centred.empty()) {
                         const long q = std::lround(s.r / kRadiusStep);
                         if (!scatter_point(A, s, double(q) * kRadiusStep)) scatter_rows(A, s, centred[std::size_t(q)]);

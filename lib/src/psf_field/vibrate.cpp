@@ -22,10 +22,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Enough samples that neighbouring ones land at most ~3 px apart at the
+// Enough samples that neighbouring ones land at most ~2.5 px apart at the
 // largest displacement (the prefilter hides that spacing), 16 to 1024.
 int automatic_samples(double max_displacement_px) {
-    const double n = std::numbers::pi * std::pow(max_displacement_px / 3.0, 2.0);
+    const double n = std::numbers::pi * std::pow(max_displacement_px / 2.5, 2.0);
     return int(std::clamp(std::ceil(n), 16.0, 1024.0));
 }
 
@@ -47,18 +47,13 @@ struct Scratch {
 // that place, so the samples stay in the same order and every source keeps
 // all of them (its light is not lost, only its shape changes).
 struct CatsEye {
-    double amount = 0, cx = 0, cy = 0, inv_half_diag = 0;
-    CatsEye(double a, const Roi& frame) : amount(a) {
-        cx = 0.5 * (frame.x0 + frame.x1);
-        cy = 0.5 * (frame.y0 + frame.y1);
-        const double hd = 0.5 * std::hypot(double(frame.width()), double(frame.height()));
-        inv_half_diag = hd > 0 ? 1.0 / hd : 0.0;
-    }
+    CatsEyeVignette vignette;
+    CatsEye(double a, const Roi& frame) : vignette(a, frame) {}
     void map(double x, double y, double& u, double& v) const {
-        const double dx = x - cx, dy = y - cy, rho = std::hypot(dx, dy);
-        if (!(amount > 0.0) || !(rho > 0.0)) return;
-        const double d = std::min(amount * rho * inv_half_diag, 1.999);
-        const double ex = dx / rho, ey = -dy / rho;  // outward in (u, v): v is up
+        const CatsEyeCut cut = vignette.at(x, y);
+        if (!(cut.d > 0.0)) return;
+        const double d = std::min(cut.d, 1.999);
+        const double ex = cut.ex, ey = cut.ey;
         const double a = u * ex + v * ey, b = -u * ey + v * ex;
         const double a2 = a * (1.0 - 0.5 * d);
         const double disc_chord = std::sqrt(std::max(0.0, 1.0 - a * a));
