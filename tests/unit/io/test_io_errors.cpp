@@ -356,3 +356,59 @@ TEST(io_errors, FixedSizeAttributeDeclaringAnotherSizeIsAnError) {
     EXPECT_NE(r.message().find("attribute 'dataWindow' of type box2i declares 7 bytes, a box2i has 16"),
               std::string::npos) << r.message();
 }
+
+// Found by tests/fuzz (fuzz_exr, a slow unit: 1.4 s and 1.8 GB resident in
+// the release build for a 1,110-byte file): OpenEXR reads a channel list by
+// its content (names up to an empty one), not by its declared size, and then
+// reads the next attribute from where the content ended; the walk skipped by
+// the declared size, so the two parted ways and OpenEXR allocated 1.7 GB for
+// a "string" found there. Channel lists and previews are now walked by their
+// content, which must take the declared size.
+TEST(io_errors, ChannelListOrPreviewNotTakingItsDeclaredSizeIsAnError) {
+    const std::string path =
+        std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/chlist_declared_91_bytes_takes_99.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("attribute 'channels' of type chlist declares 91 bytes, its content takes 99"),
+              std::string::npos) << r.message();
+
+    // A file gdof writes, its channel list declared 18 bytes (one channel) short
+    // and then longer than the file: both refused; untouched, it reads.
+    ScratchDir dir;
+    const std::string good = dir.file("rgba.exr");
+    ASSERT_TRUE(io::write_flat(good, Image::with_channels({"R", "G", "B", "A"}, {0, 0, 8, 8})));
+    ASSERT_TRUE(io::read_image(good));
+    const std::string bytes = read_bytes(good);
+    const std::size_t value = attribute_value_at(bytes, "channels", "chlist");
+    ASSERT_NE(value, std::string::npos);
+    const std::uint32_t declared = std::uint8_t(bytes[value - 4]) | std::uint8_t(bytes[value - 3]) << 8;
+    EXPECT_EQ(declared, 4u * 18u + 1u) << "four one-letter names, 16 bytes each, and the empty name";
+    for (const std::uint32_t lie : {declared - 18, declared + 18}) {
+        std::string bad_bytes = bytes;
+        put_le32(bad_bytes, value - 4, lie);
+        const std::string bad = dir.file("lie_" + std::to_string(lie) + ".exr");
+        write_bytes(bad, bad_bytes);
+        auto b = io::read_image(bad);
+        ASSERT_FALSE(b) << lie;
+        EXPECT_NE(b.message().find("'" + bad + "'"), std::string::npos) << b.message();
+        EXPECT_NE(b.message().find("of type chlist declares " + std::to_string(lie) + " bytes, its content takes " +
+                                   std::to_string(declared)),
+                  std::string::npos) << b.message();
+    }
+    // A preview attribute (width, height, 4 bytes a pixel) whose 1000 x 1000
+    // pixels cannot follow from a 12-byte declaration: refused before OpenEXR
+    // allocates them.
+    std::string with_preview = bytes;
+    const std::size_t header_end = value + declared;  // the header's next attribute starts here
+    std::string preview = std::string("preview") + '\0' + "preview" + '\0' + std::string(4 + 8 + 4, '\0');
+    put_le32(preview, 16, 12);
+    put_le32(preview, 20, 1000);
+    put_le32(preview, 24, 1000);
+    with_preview.insert(header_end, preview);
+    const std::string bad = dir.file("preview.exr");
+    write_bytes(bad, with_preview);
+    auto b = io::read_image(bad);
+    ASSERT_FALSE(b);
+    EXPECT_NE(b.message().find("attribute 'preview' of type preview declares 12 bytes, its content runs past the end"),
+              std::string::npos) << b.message();
+}

@@ -47,6 +47,36 @@ std::int32_t fixed_size(const std::string& type) {
     return 0;
 }
 
+// The size an attribute's content gives, for the types OpenEXR reads by
+// their content and not by the declared size: a channel list (names, each
+// followed by 16 bytes, up to an empty name) and a preview (width, height,
+// then 4 bytes a pixel). -1 for the other types, or if the content runs past
+// the end of the file. Reads from the value's start; the caller seeks after.
+std::int64_t content_size(std::ifstream& in, const std::string& type, std::uint64_t left) {
+    if (type == "chlist") {
+        std::uint64_t used = 0;
+        for (std::string channel;;) {
+            if (!read_name(in, channel)) return -1;
+            used += channel.size() + 1;
+            if (channel.empty()) return std::int64_t(used);
+            if (!in.seekg(16, std::ios::cur)) return -1;
+            used += 16;
+            if (used > left) return -1;
+        }
+    }
+    if (type == "preview") {
+        unsigned char wh[8];
+        if (!in.read(reinterpret_cast<char*>(wh), 8)) return -1;
+        const std::uint64_t w = wh[0] | wh[1] << 8 | wh[2] << 16 | std::uint64_t(wh[3]) << 24;
+        const std::uint64_t h = wh[4] | wh[5] << 8 | wh[6] << 16 | std::uint64_t(wh[7]) << 24;
+        const long double bytes = 8.0L + 4.0L * (long double)w * (long double)h;
+        return bytes > (long double)left ? -1 : std::int64_t(bytes);
+    }
+    return -1;
+}
+
+bool read_by_content(const std::string& type) { return type == "chlist" || type == "preview"; }
+
 std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24; }
 
 // What the size checks need of one header. Values OpenEXR rejects itself (no
@@ -125,7 +155,21 @@ Status check_exr_header_sizes(const std::string& path, std::uint64_t file_size) 
             if (const std::int32_t fixed = fixed_size(type); fixed != 0 && size != fixed)
                 return Status::error(where + "header attribute '" + name + "' of type " + type + " declares " +
                                      std::to_string(size) + " bytes, a " + type + " has " + std::to_string(fixed) + ")");
-            if (!read_layout_value(in, name, type, size, layout)) in.seekg(std::streamoff(at) + size);
+            if (read_by_content(type)) {
+                // OpenEXR reads these by their content: where it ends is where
+                // OpenEXR reads the next attribute's name from (a channel list
+                // shorter than declared had it read a 1.7 GB "string" there).
+                const std::int64_t used = content_size(in, type, file_size - at);
+                if (used != size)
+                    return Status::error(where + "header attribute '" + name + "' of type " + type + " declares " +
+                                         std::to_string(size) + " bytes, its content " +
+                                         (used < 0 ? std::string("runs past the end of the file")
+                                                   : "takes " + std::to_string(used)) + ")");
+                in.clear();
+                in.seekg(std::streamoff(at) + size);
+            } else if (!read_layout_value(in, name, type, size, layout)) {
+                in.seekg(std::streamoff(at) + size);
+            }
         }
         // A single-part file has one header; a multipart file's list ends with an empty one.
         if (attributes > 0) parts.push_back(layout);
