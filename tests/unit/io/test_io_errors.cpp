@@ -362,9 +362,9 @@ TEST(io_errors, FixedSizeAttributeDeclaringAnotherSizeIsAnError) {
 // its content (names up to an empty one), not by its declared size, and then
 // reads the next attribute from where the content ended; the walk skipped by
 // the declared size, so the two parted ways and OpenEXR allocated 1.7 GB for
-// a "string" found there. Channel lists and previews are now walked by their
-// content, which must take the declared size.
-TEST(io_errors, ChannelListOrPreviewNotTakingItsDeclaredSizeIsAnError) {
+// a "string" found there. Channel lists, previews and string vectors are now
+// walked by their content, which must take the declared size.
+TEST(io_errors, AttributesReadByContentMustTakeTheirDeclaredSize) {
     const std::string path =
         std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/chlist_declared_91_bytes_takes_99.exr";
     auto r = io::read_image(path);
@@ -409,6 +409,22 @@ TEST(io_errors, ChannelListOrPreviewNotTakingItsDeclaredSizeIsAnError) {
     write_bytes(bad, with_preview);
     auto b = io::read_image(bad);
     ASSERT_FALSE(b);
-    EXPECT_NE(b.message().find("attribute 'preview' of type preview declares 12 bytes, its content runs past the end"),
+    EXPECT_NE(b.message().find("attribute 'preview' of type preview declares 12 bytes, its content does not fit"),
               std::string::npos) << b.message();
+    // A string vector read past its declared 6 bytes (a 4-byte length, then 4
+    // characters), and one whose first string declares 1e9 characters.
+    for (const std::uint32_t length : {4u, 1000000000u}) {
+        std::string with_views = bytes;
+        std::string views = std::string("multiView") + '\0' + "stringvector" + '\0' + std::string(4 + 4, '\0') + "left";
+        put_le32(views, 23, 6);
+        put_le32(views, 27, length);
+        with_views.insert(header_end, views);
+        const std::string bad_views = dir.file("views_" + std::to_string(length) + ".exr");
+        write_bytes(bad_views, with_views);
+        auto v = io::read_image(bad_views);
+        ASSERT_FALSE(v) << length;
+        EXPECT_NE(v.message().find(std::string("attribute 'multiView' of type stringvector declares 6 bytes, its content ") +
+                                   (length == 4 ? "takes 8" : "does not fit in the file")),
+                  std::string::npos) << v.message();
+    }
 }

@@ -49,10 +49,11 @@ std::int32_t fixed_size(const std::string& type) {
 
 // The size an attribute's content gives, for the types OpenEXR reads by
 // their content and not by the declared size: a channel list (names, each
-// followed by 16 bytes, up to an empty name) and a preview (width, height,
-// then 4 bytes a pixel). -1 for the other types, or if the content runs past
-// the end of the file. Reads from the value's start; the caller seeks after.
-std::int64_t content_size(std::ifstream& in, const std::string& type, std::uint64_t left) {
+// followed by 16 bytes, up to an empty name), a preview (width, height, then
+// 4 bytes a pixel) and a string vector (strings, each after its length, until
+// the declared size is reached or passed). -1 if the content does not fit in
+// the file (a negative length included). Reads from the value's start; the caller seeks after.
+std::int64_t content_size(std::ifstream& in, const std::string& type, std::int32_t declared, std::uint64_t left) {
     if (type == "chlist") {
         std::uint64_t used = 0;
         for (std::string channel;;) {
@@ -72,10 +73,22 @@ std::int64_t content_size(std::ifstream& in, const std::string& type, std::uint6
         const long double bytes = 8.0L + 4.0L * (long double)w * (long double)h;
         return bytes > (long double)left ? -1 : std::int64_t(bytes);
     }
+    if (type == "stringvector") {
+        std::int64_t used = 0;
+        while (used < declared) {
+            unsigned char n[4];
+            if (!in.read(reinterpret_cast<char*>(n), 4)) return -1;
+            const std::int32_t length = std::int32_t(n[0] | n[1] << 8 | n[2] << 16 | std::uint32_t(n[3]) << 24);
+            if (length < 0) return -1;  // OpenEXR would resize a string to it
+            used += 4 + std::int64_t(length);
+            if (std::uint64_t(used) > left || !in.seekg(length, std::ios::cur)) return -1;
+        }
+        return used;
+    }
     return -1;
 }
 
-bool read_by_content(const std::string& type) { return type == "chlist" || type == "preview"; }
+bool read_by_content(const std::string& type) { return type == "chlist" || type == "preview" || type == "stringvector"; }
 
 std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24; }
 
@@ -159,11 +172,11 @@ Status check_exr_header_sizes(const std::string& path, std::uint64_t file_size) 
                 // OpenEXR reads these by their content: where it ends is where
                 // OpenEXR reads the next attribute's name from (a channel list
                 // shorter than declared had it read a 1.7 GB "string" there).
-                const std::int64_t used = content_size(in, type, file_size - at);
+                const std::int64_t used = content_size(in, type, size, file_size - at);
                 if (used != size)
                     return Status::error(where + "header attribute '" + name + "' of type " + type + " declares " +
                                          std::to_string(size) + " bytes, its content " +
-                                         (used < 0 ? std::string("runs past the end of the file")
+                                         (used < 0 ? std::string("does not fit in the file")
                                                    : "takes " + std::to_string(used)) + ")");
                 in.clear();
                 in.seekg(std::streamoff(at) + size);
