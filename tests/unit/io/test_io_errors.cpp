@@ -428,3 +428,41 @@ TEST(io_errors, AttributesReadByContentMustTakeTheirDeclaredSize) {
                   std::string::npos) << v.message();
     }
 }
+
+// Found by tests/fuzz (fuzz_exr, out of memory: OpenEXR's InputFile asked
+// new[] for 2.9 GB for a 1,004-byte file): a tiled file whose "dataWindow"
+// was misspelt, so OpenEXR took its default 64 x 64 window, and the header
+// walk, seeing no window, checked nothing; its tile of 4 x 11337732 pixels
+// made a row of tiles 2.9 GB. A header without a data window is now walked
+// with OpenEXR's default.
+TEST(io_errors, TiledHeaderWithoutADataWindowIsCheckedWithOpenExrsDefault) {
+    const std::string path =
+        std::string(GDOF_SOURCE_DIR) + "/tests/fuzz/regressions/exr/no_data_window_tile_4x11337732.exr";
+    auto r = io::read_image(path);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.message().find("a tile of 4 x 11337732 pixels cannot come from a file of 1004 bytes"), std::string::npos)
+        << r.message();
+
+    // The same damage to a tiled file gdof writes: "dataWindow" misspelt and
+    // a tile of 4 x 2^24 pixels.
+    ScratchDir dir;
+    Image a = Image::with_channels({"R", "G"}, {0, 0, 30, 20});
+    a.storage.tile_width = a.storage.tile_height = 8;
+    const std::string good = dir.file("tiled.exr");
+    ImageSet set;
+    set.parts = {a};
+    ASSERT_TRUE(io::write_image(good, set));
+    std::string bytes = read_bytes(good);
+    const std::size_t tiles = attribute_value_at(bytes, "tiles", "tiledesc");
+    const std::size_t window = bytes.find(std::string("dataWindow") + '\0');
+    ASSERT_NE(tiles, std::string::npos);
+    ASSERT_NE(window, std::string::npos);
+    bytes[window] = '$';
+    put_le32(bytes, tiles, 4);
+    put_le32(bytes, tiles + 4, 1u << 24);
+    const std::string bad = dir.file("no_window.exr");
+    write_bytes(bad, bytes);
+    auto b = io::read_image(bad);
+    ASSERT_FALSE(b);
+    EXPECT_NE(b.message().find("a tile of 4 x 16777216 pixels"), std::string::npos) << b.message();
+}

@@ -96,8 +96,10 @@ std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 1
 // data window, an empty one, a zero tile) are left to it.
 struct PartLayout {
     std::string type;  // the "type" attribute, empty if none
-    bool has_window = false, has_tiles = false;
-    std::int64_t width = 0, height = 0;
+    bool has_tiles = false;
+    // A header without a data window reads as OpenEXR's default, 64 x 64
+    // (a misspelt "dataWindow" gave a tile of 4 x 11337732 its row of tiles).
+    std::int64_t width = 64, height = 64;
     std::uint32_t tile_x = 0, tile_y = 0;
 };
 
@@ -110,7 +112,6 @@ bool read_layout_value(std::ifstream& in, const std::string& name, const std::st
         const auto at = [&](int i) { return std::int64_t(std::int32_t(le32(&v[std::size_t(i) * 4]))); };
         part.width = at(2) - at(0) + 1;
         part.height = at(3) - at(1) + 1;
-        part.has_window = true;
         return true;
     }
     if (name == "tiles" && type == "tiledesc" && size == 9) {
@@ -196,7 +197,7 @@ Status check_exr_header_sizes(const std::string& path, std::uint64_t file_size) 
     long double offsets = 0;
     for (std::size_t i = 0; i < parts.size(); ++i) {
         const PartLayout& p = parts[i];
-        if (!p.has_window || p.width <= 0 || p.height <= 0) continue;
+        if (p.width <= 0 || p.height <= 0) continue;
         const std::string which = parts.size() > 1 ? "part " + std::to_string(i) + ": " : std::string();
         if (is_tiled(p, single_part_tiled)) {
             if (!p.has_tiles || p.tile_x == 0 || p.tile_y == 0) continue;
