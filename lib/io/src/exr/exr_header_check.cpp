@@ -47,6 +47,8 @@ std::int32_t fixed_size(const std::string& type) {
     return 0;
 }
 
+std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24; }
+
 // The size an attribute's content gives, for the types OpenEXR reads by
 // their content and not by the declared size: a channel list (names, each
 // followed by 16 bytes, up to an empty name), a preview (width, height, then
@@ -68,9 +70,7 @@ std::int64_t content_size(std::ifstream& in, const std::string& type, std::int32
     if (type == "preview") {
         unsigned char wh[8];
         if (!in.read(reinterpret_cast<char*>(wh), 8)) return -1;
-        const std::uint64_t w = wh[0] | wh[1] << 8 | wh[2] << 16 | std::uint64_t(wh[3]) << 24;
-        const std::uint64_t h = wh[4] | wh[5] << 8 | wh[6] << 16 | std::uint64_t(wh[7]) << 24;
-        const long double bytes = 8.0L + 4.0L * (long double)w * (long double)h;
+        const long double bytes = 8.0L + 4.0L * (long double)le32(wh) * (long double)le32(wh + 4);
         return bytes > (long double)left ? -1 : std::int64_t(bytes);
     }
     if (type == "stringvector") {
@@ -78,7 +78,7 @@ std::int64_t content_size(std::ifstream& in, const std::string& type, std::int32
         while (used < declared) {
             unsigned char n[4];
             if (!in.read(reinterpret_cast<char*>(n), 4)) return -1;
-            const std::int32_t length = std::int32_t(n[0] | n[1] << 8 | n[2] << 16 | std::uint32_t(n[3]) << 24);
+            const std::int32_t length = std::int32_t(le32(n));
             if (length < 0) return -1;  // OpenEXR would resize a string to it
             used += 4 + std::int64_t(length);
             if (std::uint64_t(used) > left || !in.seekg(length, std::ios::cur)) return -1;
@@ -89,8 +89,6 @@ std::int64_t content_size(std::ifstream& in, const std::string& type, std::int32
 }
 
 bool read_by_content(const std::string& type) { return type == "chlist" || type == "preview" || type == "stringvector"; }
-
-std::uint32_t le32(const unsigned char* b) { return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24; }
 
 // What the size checks need of one header. Values OpenEXR rejects itself (no
 // data window, an empty one, a zero tile) are left to it.
