@@ -127,7 +127,8 @@ std::vector<Command> plate_commands() {
                  .stack = StackUse::NeedsImage, .run = do_view});
     t.push_back({.names = {"--depth-cleanup"}, .args = "all|none|LIST", .kind = Kind::Modifier, .group = P,
                  .help = "what --diffuse repairs in a plate's depth besides filling holes: all (default), none, or "
-                         "speckles,mixed",
+                         "speckles,mixed (mixed: silhouette pixels split, and filled holes at a silhouette "
+                         "decided by their colour)",
                  .run = [](Frame& f, const Step& s) {
                      const DepthCleanupOptions c = cleanup(s);
                      f.defocus.cleanup.remove_speckles = c.remove_speckles;

@@ -22,7 +22,15 @@
 //      around it, corrected so the parts composite back to the pixel). So a
 //      blurred foreground's edge is soft as the plate's anti-aliasing says,
 //      no ring of intermediate depth appears, and the background continued
-//      behind a foreground does not take the foreground's colour.
+//      behind a foreground does not take the foreground's colour;
+//   5. holes at silhouettes: a sensor loses the pixels next to a depth step
+//      (the projector's shadow on the far side, flying pixels filtered out),
+//      which are the silhouette's mixed pixels; the fill alone makes each
+//      all foreground or all background. A filled hole whose neighbourhood
+//      holds both sides of a step is decided by its colour between the
+//      nearest measured pixels of each side: all one side's depth, or split
+//      as in 4 with the share its colour says. Where the two sides' colours
+//      are too alike, or the pixel is no mix of them, the fill stays.
 // The focus tools read the prepared depth: the median depth in a small
 // window around a pixel (robust to noise and holes) and a probe of depth,
 // world position and blur at a pixel.
@@ -43,7 +51,7 @@ namespace gdof {
 
 struct DepthCleanupOptions {
     bool remove_speckles = true;
-    bool split_mixed = true;
+    bool split_mixed = true;  // steps 4 and 5
     // Neighbouring depths within this ratio belong to one surface; a larger
     // step is a discontinuity (speckle islands, mixed pixels).
     double continuity = 1.05;
@@ -59,6 +67,7 @@ struct GDOF_API DepthCleanupStats {
     std::size_t holes = 0;     // invalid after decoding (speckles not counted)
     std::size_t speckles = 0;  // pixels of removed islands (then filled as holes)
     std::size_t filled = 0;    // holes and speckles given a depth
+    std::size_t silhouette_holes = 0;  // of them, next to a depth step and decided by their colour
     std::size_t sky = 0;       // pixels at infinite depth
     std::size_t mixed = 0;     // pixels split into foreground and background
     std::string report() const;  // one line, for --stats

@@ -60,6 +60,16 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
 
 namespace {
 
+// Silhouette holes (split_silhouette_holes): the two surfaces' colours must
+// differ by this fraction of the larger channel value to be told apart; the
+// pixel may lie this far off the line between them (in units of their
+// difference) and its share this far outside [0, 1]; a share within
+// kPureShare of 0 or 1 is all background or all foreground.
+constexpr double kDistinctColours = 0.1;
+constexpr double kResidual = 0.35;
+constexpr double kShareSlack = 0.25;
+constexpr double kPureShare = 0.1;
+
 // The parts' colours: each surface's mean over its pure pixels in the
 // window, then both moved by the residual so that the parts composite back
 // exactly: share * fg + (1 - share) * bg = pixel.
@@ -128,6 +138,108 @@ std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector
             else
                 for (int c = 0; c < 3; ++c) m.fg_rgb[c] = m.bg_rgb[c] = pixel[c];
             depth[i] = far;
+            out.push_back(m);
+        }
+    return out;
+}
+
+// Holes at silhouettes (plate_internal.h): the colour of a filled hole next
+// to a depth step says which surface it shows, or how much of each.
+std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const std::vector<unsigned char>& was_hole,
+                                               const std::vector<unsigned char>& candidate, int W, int H,
+                                               double continuity, double mixed_step, const float* const rgb[3],
+                                               std::size_t& recoloured) {
+    std::vector<MixedPixel> out;
+    recoloured = 0;
+    if (!rgb[0] || !rgb[1] || !rgb[2]) return out;
+    constexpr int kR = 3;  // the 7x7 window of split_mixed
+    const std::vector<float> d0 = depth;
+    auto pure = [&](std::size_t j) { return !was_hole[j] && !candidate[j] && std::isfinite(d0[j]); };
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+            if (!was_hole[i] || !std::isfinite(d0[i])) continue;
+            float near = std::numeric_limits<float>::infinity(), far = -near;
+            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
+                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
+                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                    if (!pure(j)) continue;
+                    near = std::min(near, d0[j]);
+                    far = std::max(far, d0[j]);
+                }
+            if (!(far >= near) || double(far) < double(near) * mixed_step) continue;
+            // A step, not a surface receding steeply (a floor at a grazing
+            // angle spans the ratio in a few rows): the measured depths
+            // form two groups, with at most a quarter of them between.
+            int between = 0, total = 0;
+            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
+                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
+                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                    if (!pure(j)) continue;
+                    ++total;
+                    between += double(d0[j]) > double(near) * continuity && double(d0[j]) * continuity < double(far);
+                }
+            if (between * 4 > total) continue;
+            // Each surface's measured pixels nearest to the hole (all at the
+            // least distance): their mean colour and depth.
+            struct Side {
+                int dist2 = std::numeric_limits<int>::max(), n = 0;
+                double rgb[3] = {0, 0, 0}, depth = 0;
+            } fg, bg;
+            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
+                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
+                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                    if (!pure(j)) continue;
+                    const float q = d0[j];
+                    const bool is_fg = double(q) <= double(near) * continuity, is_bg = double(q) * continuity >= double(far);
+                    if (!is_fg && !is_bg) continue;
+                    Side& sd = is_fg ? fg : bg;
+                    const int d2 = (xx - x) * (xx - x) + (yy - y) * (yy - y);
+                    if (d2 > sd.dist2) continue;
+                    if (d2 < sd.dist2) sd = Side{d2, 0, {0, 0, 0}, 0};
+                    for (int c = 0; c < 3; ++c) sd.rgb[c] += rgb[c][j];
+                    sd.depth += q;
+                    ++sd.n;
+                }
+            if (!fg.n || !bg.n) continue;
+            double f[3], b[3], p[3], den = 0, num = 0, fb_scale = 0;
+            for (int c = 0; c < 3; ++c) {
+                f[c] = fg.rgb[c] / fg.n;
+                b[c] = bg.rgb[c] / bg.n;
+                p[c] = rgb[c][i];
+                den += (f[c] - b[c]) * (f[c] - b[c]);
+                num += (p[c] - b[c]) * (f[c] - b[c]);
+                fb_scale = std::max({fb_scale, std::abs(f[c]), std::abs(b[c])});
+            }
+            // Surfaces too alike in colour to tell apart: the fill stays.
+            if (!(den > 0.0) || std::sqrt(den) < kDistinctColours * fb_scale) continue;
+            const double share = num / den;
+            // The pixel must lie near the line between the two colours
+            // (texture or a third surface otherwise): the fill stays.
+            double res = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double m = share * f[c] + (1.0 - share) * b[c];
+                res += (p[c] - m) * (p[c] - m);
+            }
+            if (share < -kShareSlack || share > 1.0 + kShareSlack || res > kResidual * kResidual * den) continue;
+            const float fg_depth = float(fg.depth / fg.n), bg_depth = float(bg.depth / bg.n);
+            ++recoloured;
+            if (share >= 1.0 - kPureShare) {
+                depth[i] = fg_depth;
+                continue;
+            }
+            if (share <= kPureShare) {
+                depth[i] = bg_depth;
+                continue;
+            }
+            MixedPixel m;
+            m.index = i;
+            m.fg_depth = fg_depth;
+            m.fg_share = float(share);
+            const float pixel[3] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+            const double fg_sum[3] = {f[0], f[1], f[2]}, bg_sum[3] = {b[0], b[1], b[2]};
+            unmix(m, rgb, pixel, fg_sum, 1, bg_sum, 1);
+            depth[i] = bg_depth;
             out.push_back(m);
         }
     return out;

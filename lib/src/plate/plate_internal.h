@@ -43,4 +43,22 @@ Status fill_holes(std::vector<float>& depth, int width, int height, const Guide&
 std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector<unsigned char>& candidate, int width,
                                     int height, double continuity, double mixed_step, const float* const rgb[3]);
 
+// Holes at silhouettes: a sensor loses the pixels next to a depth step (the
+// projector's shadow on the far side, flying pixels filtered out), and those
+// are the silhouette's mixed pixels. The fill gives each a depth from its
+// surroundings, so it turns all foreground or all background by whichever
+// neighbours its colour matched: the silhouette moves and a mixed colour is
+// blurred as one surface. Here a filled hole whose 7x7 window holds both
+// sides of a step (measured, non-candidate pixels at least mixed_step apart)
+// is decided by its colour between the nearest measured pixels of each side:
+// the share s of the foreground that best explains it; near 1 or 0 it takes
+// that side's depth, between it is split as a mixed pixel (returned, in
+// index order; its depth set to the background's). Surfaces too alike in
+// colour, or a pixel their mix does not explain (texture, a third
+// surface), keep the fill. `recoloured`: holes decided by colour.
+std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const std::vector<unsigned char>& was_hole,
+                                               const std::vector<unsigned char>& candidate, int width, int height,
+                                               double continuity, double mixed_step, const float* const rgb[3],
+                                               std::size_t& recoloured);
+
 }  // namespace gdof::plate_detail

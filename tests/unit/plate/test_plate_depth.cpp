@@ -255,6 +255,76 @@ TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
     EXPECT_EQ(pr->stats.mixed, 0u);
 }
 
+// A sensor loses the silhouette's pixels (the shadow band on the far side of
+// a step): the fill alone makes each all foreground or all background. Its
+// colour between the two sides' says how much of each it shows.
+TEST(plate_depth, HolesAtASilhouetteAreDecidedByTheirColour) {
+    // Red foreground (depth 2) left of column 80, a green checked background
+    // (6) right of it; column 80 is covered beta by the foreground (its
+    // colour the mix), and the sensor lost it, and columns 81 and 82 on
+    // every other row.
+    auto beta = [](int y) { return 0.05 + 0.9 * y / double(kH - 1); };
+    const float fg[3] = {0.8f, 0.1f, 0.1f};
+    auto bg = [](int x, int y, int c) {
+        const bool check = ((x / 6) + (y / 6)) % 2 == 0;
+        return c == 1 ? (check ? 0.5f : 0.35f) : 0.05f;
+    };
+    auto lost = [](int x, int y) { return x == 80 || ((x == 81 || x == 82) && y % 2 == 0); };
+    auto make = [&](bool same_colours) {
+        Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const double b = x < 80 ? 1.0 : x > 80 ? 0.0 : beta(y);
+                for (int c = 0; c < 3; ++c) {
+                    const float back = same_colours ? fg[c] : bg(x, y, c);
+                    img.at(c, x, y) = float(b * fg[c] + (1 - b) * back);
+                }
+                img.at(3, x, y) = 1.0f;
+                img.at(4, x, y) = lost(x, y) ? 0.0f : x < 80 ? 2.0f : 6.0f;
+            }
+        return img;
+    };
+    const Image img = make(false);
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_GT(pd->stats.silhouette_holes, std::size_t(kH));
+    std::size_t split = 0, near_share = 0, checked = 0;  // checked: rows with a share in (0.15, 0.85)
+    for (int y = 3; y < kH - 3; ++y) {
+        const double b = beta(y);
+        const std::size_t i = std::size_t(y) * kW + 80;
+        const MixedPixel* m = pd->mixed_at(i);
+        if (b > 0.15 && b < 0.85) {
+            ++checked;
+            if (!m) continue;
+            ++split;
+            EXPECT_NEAR(m->fg_share, b, 0.3) << y << ": the wrong side";
+            near_share += std::abs(m->fg_share - b) < 0.05 ? 1 : 0;
+            EXPECT_FLOAT_EQ(m->fg_depth, 2.0f) << y;
+            EXPECT_FLOAT_EQ(pd->depth[i], 6.0f) << y;
+            for (int c = 0; c < 3; ++c)  // the parts composite back to the pixel
+                EXPECT_NEAR(m->fg_share * m->fg_rgb[c] + (1 - m->fg_share) * m->bg_rgb[c], img.at(c, 80, y), 1e-5) << y;
+        } else if (b >= 0.92 || b <= 0.08) {
+            EXPECT_EQ(m, nullptr) << y;
+            EXPECT_FLOAT_EQ(pd->depth[i], b > 0.5 ? 2.0f : 6.0f) << y << ": almost all one side";
+        }
+        // The background's lost pixels keep the background's depth.
+        for (int x : {81, 82}) {
+            EXPECT_FLOAT_EQ(pd->depth[std::size_t(y) * kW + std::size_t(x)], 6.0f) << x << "," << y;
+            EXPECT_EQ(pd->mixed_at(std::size_t(y) * kW + std::size_t(x)), nullptr) << x << "," << y;
+        }
+    }
+    EXPECT_GT(split, checked * 6 / 10) << "most silhouette holes are split";
+    EXPECT_GE(near_share * 10, split * 9) << "shares within 0.05 of the true coverage";
+
+    // The same plate with a background of the foreground's colour: nothing to
+    // tell the sides apart by, so the fill stays and nothing is split.
+    auto same = prepare_plate_depth(make(true), 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(same) << same.message();
+    EXPECT_EQ(same->stats.silhouette_holes, 0u);
+    EXPECT_FALSE(same->has_mixed());
+    for (int y = 0; y < kH; ++y) EXPECT_TRUE(std::isfinite(same->depth[std::size_t(y) * kW + 80])) << y;
+}
+
 TEST(plate_depth, FocusFromAPixelIsRobustToNoiseHolesAndEdges) {
     Lcg rng;
     const Image img = plate([&](int x, int y) {
