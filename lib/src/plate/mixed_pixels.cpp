@@ -153,54 +153,53 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
     recoloured = 0;
     if (!rgb[0] || !rgb[1] || !rgb[2]) return out;
     constexpr int kR = 3;  // the 7x7 window of split_mixed
-    const std::vector<float> d0 = depth;
-    auto pure = [&](std::size_t j) { return !was_hole[j] && !candidate[j] && std::isfinite(d0[j]); };
+    // Only holes are written below, so the measured pixels the decisions read
+    // keep their depths throughout.
+    auto pure = [&](std::size_t j) { return !was_hole[j] && !candidate[j] && std::isfinite(depth[j]); };
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            if (!was_hole[i] || !std::isfinite(d0[i])) continue;
+            if (!was_hole[i] || !std::isfinite(depth[i])) continue;
+            // fn(j, squared distance) for the measured pixels of the window.
+            auto for_each_pure = [&](auto&& fn) {
+                for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
+                    for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        if (pure(j)) fn(j, (xx - x) * (xx - x) + (yy - y) * (yy - y));
+                    }
+            };
             float near = std::numeric_limits<float>::infinity(), far = -near;
-            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
-                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
-                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                    if (!pure(j)) continue;
-                    near = std::min(near, d0[j]);
-                    far = std::max(far, d0[j]);
-                }
+            for_each_pure([&](std::size_t j, int) {
+                near = std::min(near, depth[j]);
+                far = std::max(far, depth[j]);
+            });
             if (!(far >= near) || double(far) < double(near) * mixed_step) continue;
-            // A step, not a surface receding steeply (a floor at a grazing
-            // angle spans the ratio in a few rows): the measured depths
-            // form two groups, with at most a quarter of them between.
-            int between = 0, total = 0;
-            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
-                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
-                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                    if (!pure(j)) continue;
-                    ++total;
-                    between += double(d0[j]) > double(near) * continuity && double(d0[j]) * continuity < double(far);
-                }
-            if (between * 4 > total) continue;
             // Each surface's measured pixels nearest to the hole (all at the
-            // least distance): their mean colour and depth.
+            // least distance): their mean colour and depth. And a step, not a
+            // surface receding steeply (a floor at a grazing angle spans the
+            // ratio in a few rows): the measured depths form two groups, with
+            // at most a quarter of them between.
             struct Side {
                 int dist2 = std::numeric_limits<int>::max(), n = 0;
                 double rgb[3] = {0, 0, 0}, depth = 0;
             } fg, bg;
-            for (int yy = std::max(0, y - kR); yy <= std::min(H - 1, y + kR); ++yy)
-                for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
-                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                    if (!pure(j)) continue;
-                    const float q = d0[j];
-                    const bool is_fg = double(q) <= double(near) * continuity, is_bg = double(q) * continuity >= double(far);
-                    if (!is_fg && !is_bg) continue;
-                    Side& sd = is_fg ? fg : bg;
-                    const int d2 = (xx - x) * (xx - x) + (yy - y) * (yy - y);
-                    if (d2 > sd.dist2) continue;
-                    if (d2 < sd.dist2) sd = Side{d2, 0, {0, 0, 0}, 0};
-                    for (int c = 0; c < 3; ++c) sd.rgb[c] += rgb[c][j];
-                    sd.depth += q;
-                    ++sd.n;
+            int between = 0, total = 0;
+            for_each_pure([&](std::size_t j, int d2) {
+                const float q = depth[j];
+                ++total;
+                const bool is_fg = double(q) <= double(near) * continuity, is_bg = double(q) * continuity >= double(far);
+                if (!is_fg && !is_bg) {
+                    ++between;
+                    return;
                 }
+                Side& sd = is_fg ? fg : bg;
+                if (d2 > sd.dist2) return;
+                if (d2 < sd.dist2) sd = Side{d2, 0, {0, 0, 0}, 0};
+                for (int c = 0; c < 3; ++c) sd.rgb[c] += rgb[c][j];
+                sd.depth += q;
+                ++sd.n;
+            });
+            if (between * 4 > total) continue;
             if (!fg.n || !bg.n) continue;
             double f[3], b[3], p[3], den = 0, num = 0, fb_scale = 0;
             for (int c = 0; c < 3; ++c) {
@@ -237,8 +236,7 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
             m.fg_depth = fg_depth;
             m.fg_share = float(share);
             const float pixel[3] = {rgb[0][i], rgb[1][i], rgb[2][i]};
-            const double fg_sum[3] = {f[0], f[1], f[2]}, bg_sum[3] = {b[0], b[1], b[2]};
-            unmix(m, rgb, pixel, fg_sum, 1, bg_sum, 1);
+            unmix(m, rgb, pixel, f, 1, b, 1);
             depth[i] = bg_depth;
             out.push_back(m);
         }
