@@ -7,7 +7,7 @@
 // its peak resident memory is its own; times are medians of --reps runs.
 //
 //   bench_frame --flat F.exr --deep D.exr --field FIELD.json --layers 8
-//               [--reps 3] [--out DIR]
+//               [--reps 3] [--out DIR] [--rows default,full-res,bokeh]
 //
 // Rows: "diffusion (default)" (the pyramid), "diffusion full-res"
 // (pyramid off: the previous default, once, as the baseline), "bokeh".
@@ -89,6 +89,7 @@ Measure in_child(F&& f) {
 
 struct Options {
     std::string flat, deep, field, layers = "8", out = ".";
+    std::string rows = "default,full-res,bokeh";  // which configurations to time
     int reps = 3;
 };
 
@@ -106,6 +107,7 @@ int main(int argc, char** argv) {
         else if (a == "--layers") opt.layers = next();
         else if (a == "--reps") opt.reps = std::max(1, std::atoi(next().c_str()));
         else if (a == "--out") opt.out = next();
+        else if (a == "--rows") opt.rows = next();
         else die("unknown argument '" + a + "'");
     }
     if (opt.flat.empty() || opt.deep.empty() || opt.field.empty()) die("--flat, --deep and --field are required");
@@ -138,14 +140,17 @@ int main(int argc, char** argv) {
                  2.0 * gb / copy.seconds);
 
     struct Config {
-        std::string name;
+        std::string key, name;
         bool pyramid;
         DefocusFilter filter;
         int reps;
     };
-    const std::vector<Config> configs = {{"diffusion (default)", true, DefocusFilter::Diffusion, opt.reps},
-                                         {"diffusion full-res (previous default)", false, DefocusFilter::Diffusion, 1},
-                                         {"bokeh", true, DefocusFilter::Bokeh, opt.reps}};
+    std::vector<Config> configs;
+    for (const Config& c : {Config{"default", "diffusion (default)", true, DefocusFilter::Diffusion, opt.reps},
+                            Config{"full-res", "diffusion full-res (previous default)", false, DefocusFilter::Diffusion, 1},
+                            Config{"bokeh", "bokeh", true, DefocusFilter::Bokeh, opt.reps}})
+        if (("," + opt.rows + ",").find("," + c.key + ",") != std::string::npos) configs.push_back(c);
+    if (configs.empty()) die("--rows names none of default, full-res, bokeh");
     std::ofstream csv(opt.out + "/frame.csv");
     csv << "input,method,size,layers,seconds,copy_seconds,x_copy,peak_mb,max_radius,solve_seconds,layers_seconds\n";
     std::ostringstream md;
