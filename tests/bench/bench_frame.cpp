@@ -3,8 +3,12 @@
 // RGBA + Z frame and on a deep frame, with its peak memory, next to a
 // bandwidth reference measured in the same run: one copy of an 8-layer RGBA
 // float stack of the frame's size (what a pass over all layers costs at the
-// memory's speed). Every configuration runs in its own child process, so
-// its peak resident memory is its own; times are medians of --reps runs.
+// memory's speed), and the first touch of that much fresh memory (each
+// configuration faults in its own peak once; on the benchmark's virtual
+// machine this ran anywhere from 0.1 to 8 GB/s within an hour, the main
+// source of the rows' spread). Every configuration runs in its own child
+// process, so its peak resident memory is its own; times are medians of
+// --reps runs.
 //
 //   bench_frame --flat F.exr --deep D.exr --field FIELD.json --layers 8
 //               [--reps 3] [--out DIR] [--rows default,full-res,bokeh]
@@ -123,21 +127,31 @@ int main(int argc, char** argv) {
     const Roi frame = take(io::read_image(opt.flat), opt.flat).flat(0).display_window();
     const int W = frame.width(), H = frame.height();
 
-    // Bandwidth reference: one copy of an nlayers x RGBA float stack.
+    // Bandwidth references: one copy of an nlayers x RGBA float stack, and
+    // the first touch of such a stack's fresh memory (the kernel maps and
+    // zeroes each page on its first write; on a virtual machine the host may
+    // back it only then, so its speed varies from run to run, and every
+    // configuration below pays it once for its peak).
     const std::size_t stack_floats = std::size_t(std::max(1, nlayers)) * 4 * frame.npixels();
     const Measure copy = in_child([&] {
-        std::vector<float> a(stack_floats, 1.0f), b(stack_floats, 0.0f);
+        const double t_touch = now();
+        std::vector<float> a(stack_floats, 1.0f);
+        const double touch = now() - t_touch;
+        std::vector<float> b(stack_floats, 0.0f);
         std::vector<double> t;
         for (int r = 0; r < 5; ++r) {
             const double t0 = now();
             std::memcpy(b.data(), a.data(), stack_floats * sizeof(float));
             t.push_back(now() - t0);
         }
-        return std::to_string(median(t)) + " " + std::to_string(b[stack_floats / 2]);
+        return std::to_string(median(t)) + " " + std::to_string(touch) + " " + std::to_string(b[stack_floats / 2]);
     });
+    double touch_seconds = 0;
+    std::istringstream(copy.detail) >> touch_seconds;
     const double gb = double(stack_floats) * sizeof(float) / 1e9;
-    std::fprintf(stderr, "copy of a %d-layer RGBA float stack (%.2f GB): %.3f s (%.1f GB/s)\n", nlayers, gb, copy.seconds,
-                 2.0 * gb / copy.seconds);
+    const double touch_gbs = gb / std::max(touch_seconds, 1e-9);
+    std::fprintf(stderr, "copy of a %d-layer RGBA float stack (%.2f GB): %.3f s (%.1f GB/s); first touch of its fresh memory: %.3f s (%.2f GB/s)\n",
+                 nlayers, gb, copy.seconds, 2.0 * gb / copy.seconds, touch_seconds, touch_gbs);
 
     struct Config {
         std::string key, name;
@@ -190,13 +204,14 @@ int main(int argc, char** argv) {
             csv << input << "," << c.name << "," << W << "x" << H << "," << opt.layers << "," << t << "," << copy.seconds << ","
                 << t / copy.seconds << "," << peak << "," << rmax << "," << solve << "," << lay << "\n";
             char row[400];
-            std::snprintf(row, sizeof row, "| %s | %s | %.2f | %.0f | %.0f | %.2f | %.2f | %.1f |\n", input.c_str(), c.name.c_str(),
-                          t, t / copy.seconds, peak, solve, lay, rmax);
+            std::snprintf(row, sizeof row, "| %s | %s | %.2f | %.0f | %.0f | %.2f | %.2f | %.1f |\n", input.c_str(),
+                          c.name.c_str(), t, t / copy.seconds, peak, solve, lay, rmax);
             md << row;
         }
     }
     std::ofstream(opt.out + "/frame_table.md") << md.str() << "\nBandwidth reference: one copy of a " << nlayers
                                                << "-layer RGBA float stack at " << W << "x" << H << " (" << gb << " GB) took "
-                                               << copy.seconds << " s in the same run.\n";
+                                               << copy.seconds << " s in the same run; the first touch of that much fresh memory "
+                                               << touch_seconds << " s (" << touch_gbs << " GB/s).\n";
     return 0;
 }
