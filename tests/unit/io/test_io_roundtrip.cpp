@@ -5,7 +5,12 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 
+#include <OpenEXR/ImfThreading.h>
+#include <tbb/global_control.h>
+
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "gdof/io/image_io.h"
 #include "io_test_helpers.h"
@@ -280,4 +285,34 @@ TEST(io_roundtrip, DescribeMentionsPartsChannelsAndCamera) {
     std::string v = io::describe(set, "shot.exr", true);
     EXPECT_NE(v.find("lensTags (string[3]): [\"prime\", \"anamorphic\", \"\"]"), std::string::npos) << v;
     EXPECT_NE(v.find("comments (string): \"shot 42, camera A\""), std::string::npos) << v;
+}
+
+// OpenEXR compresses and decompresses on a worker pool that is empty unless
+// the application sizes it; the reader and writer size it to the process's
+// thread budget (the CLI's --threads is a TBB global_control), and the bytes
+// written do not depend on it.
+TEST(io_roundtrip, ExrWorkersFollowTheThreadBudget) {
+    ScratchDir dir;
+    ImageSet set;
+    Image img = make_multilayer({0, 0, 301, 157}, {0, 0, 301, 157});  // ten 16-row zip blocks
+    set.parts.push_back(img);
+    io::WriteOptions wo;
+    wo.compression = "zip";
+    auto bytes = [](const std::string& path) {
+        std::ifstream f(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    std::string written[2];
+    for (int budget : {1, 2}) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(budget));
+        const std::string path = dir.file("budget" + std::to_string(budget) + ".exr");
+        ImageSet back = roundtrip(set, path, wo);
+        // One thread: no workers (the calling thread does everything).
+        EXPECT_EQ(Imf::globalThreadCount(), budget > 1 ? budget : 0) << "budget " << budget;
+        ASSERT_EQ(back.size(), 1u);
+        expect_same_flat(img, back.flat(0), "budget " + std::to_string(budget));
+        written[budget - 1] = bytes(path);
+    }
+    EXPECT_FALSE(written[0].empty());
+    EXPECT_EQ(written[0], written[1]) << "the file's bytes depend on the number of threads";
 }

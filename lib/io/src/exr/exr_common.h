@@ -18,8 +18,9 @@ bool parse_compression(const std::string& text, Imf::Compression& c, double& lev
 // 8-byte size but assumes 4), which garbles the next attribute's name
 // ("lineOrder" comes out as "Order"); the type is therefore unregistered so
 // id manifests are read and written as opaque bytes, exactly as stored.
+// Also sizes OpenEXR's worker pool to exr_thread_count().
 void ensure_exr_setup();
-// Threads OpenEXR may use to (de)compress one file.
+// Threads OpenEXR may use to (de)compress one file: the process's TBB limit.
 int exr_thread_count();
 
 }  // namespace gdof::io::detail
