@@ -292,6 +292,13 @@ TEST(io_roundtrip, DescribeMentionsPartsChannelsAndCamera) {
 // thread budget (the CLI's --threads is a TBB global_control), and the bytes
 // written do not depend on it.
 TEST(io_roundtrip, ExrWorkersFollowTheThreadBudget) {
+#if defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "under ThreadSanitizer OpenEXR's pool stays empty (exr_common.cpp)";
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+    GTEST_SKIP() << "under ThreadSanitizer OpenEXR's pool stays empty (exr_common.cpp)";
+#endif
+#endif
     ScratchDir dir;
     ImageSet set;
     Image img = make_multilayer({0, 0, 301, 157}, {0, 0, 301, 157});  // ten 16-row zip blocks

@@ -70,10 +70,24 @@ void ensure_exr_setup() {
     if (Imf::globalThreadCount() != workers) Imf::setGlobalThreadCount(workers);
 }
 
+#if defined(__SANITIZE_THREAD__)
+#define GDOF_EXR_SINGLE_THREADED 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define GDOF_EXR_SINGLE_THREADED 1
+#endif
+#endif
+
 int exr_thread_count() {
+#ifdef GDOF_EXR_SINGLE_THREADED
+    // ThreadSanitizer cannot see the synchronisation inside Debian's
+    // (uninstrumented) OpenEXR pool: files stay on the calling thread.
+    return 1;
+#else
     // TBB's limit for the process: all cores, or --threads (a global_control).
     const std::size_t n = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
     return int(std::clamp<std::size_t>(n, 1, 16));
+#endif
 }
 
 }  // namespace gdof::io::detail
