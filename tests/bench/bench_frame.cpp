@@ -8,7 +8,8 @@
 // machine this ran anywhere from 0.1 to 8 GB/s within an hour, the main
 // source of the rows' spread). Every configuration runs in its own child
 // process, so its peak resident memory is its own; times are medians of
-// --reps runs.
+// --reps runs. Reading the input and writing the result (as the CLI does:
+// the input's compression) are timed apart, in the same child.
 //
 //   bench_frame --flat F.exr --deep D.exr --field FIELD.json --layers 8
 //               [--reps 3] [--out DIR] [--rows default,full-res,bokeh]
@@ -166,18 +167,22 @@ int main(int argc, char** argv) {
         if (("," + opt.rows + ",").find("," + c.key + ",") != std::string::npos) configs.push_back(c);
     if (configs.empty()) die("--rows names none of default, full-res, bokeh");
     std::ofstream csv(opt.out + "/frame.csv");
-    csv << "input,method,size,layers,seconds,copy_seconds,x_copy,peak_mb,max_radius,solve_seconds,layers_seconds\n";
+    csv << "input,method,size,layers,seconds,copy_seconds,x_copy,peak_mb,max_radius,solve_seconds,layers_seconds,read_seconds,"
+           "write_seconds\n";
     std::ostringstream md;
-    md << "| input | method | s | x copy | peak MB | solve s | layers s | max blur px |\n|---|---|---|---|---|---|---|---|\n";
+    md << "| input | method | s | x copy | peak MB | solve s | layers s | max blur px | read s | write s |\n"
+          "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const std::string input : {"flat+Z", "deep"}) {
         const std::string path = input == "deep" ? opt.deep : opt.flat;
         for (const Config& c : configs) {
-            std::vector<double> secs;
+            std::vector<double> secs, reads, writes;
             Measure last;
             double peak = 0;
             for (int r = 0; r < c.reps; ++r) {
                 last = in_child([&] {
+                    const double t_read = now();
                     const ImageSet set = take(io::read_image(path), path);
+                    const double read_s = now() - t_read;
                     const Roi display = set.is_deep(0) ? set.deep(0).display_window() : set.flat(0).display_window();
                     const Camera cam = take(resolve_camera(set.metadata(0), display), "camera");
                     const BlurField field = take(BlurField::parse(field_text), opt.field);
@@ -189,23 +194,36 @@ int main(int argc, char** argv) {
                     const double t0 = now();
                     const ImageSet out = take(defocus(set, field, cam, s, &st), "defocus");
                     const double t = now() - t0;
-                    char d[160];
-                    std::snprintf(d, sizeof d, "%.3f %.3f %.2f", st.t_diffuse, st.t_layers, st.max_radius_px);
+                    // The result written as the CLI writes it (the input's
+                    // compression), then removed.
+                    const std::string written = opt.out + "/frame_" + c.key + (input == "deep" ? "_deep" : "_flat") + ".exr";
+                    const double t_write = now();
+                    if (Status w = io::write_image(written, out); !w) die(w.message());
+                    const double write_s = now() - t_write;
+                    std::remove(written.c_str());
+                    char d[200];
+                    std::snprintf(d, sizeof d, "%.3f %.3f %.2f %.3f %.3f", st.t_diffuse, st.t_layers, st.max_radius_px, read_s,
+                                  write_s);
                     return std::to_string(t) + " " + d;
                 });
                 secs.push_back(last.seconds);
                 peak = std::max(peak, last.peak_mb);
+                double sv = 0, ly = 0, rm = 0, rd = 0, wr = 0;
+                std::istringstream(last.detail) >> sv >> ly >> rm >> rd >> wr;
+                reads.push_back(rd);
+                writes.push_back(wr);
             }
-            const double t = median(secs);
+            const double t = median(secs), read_s = median(reads), write_s = median(writes);
             double solve = 0, lay = 0, rmax = 0;
             std::istringstream(last.detail) >> solve >> lay >> rmax;
-            std::fprintf(stderr, "%s %s: %.2f s (%.0fx copy), peak %.0f MB, solve %.2f s, layers %.2f s\n", input.c_str(),
-                         c.name.c_str(), t, t / copy.seconds, peak, solve, lay);
+            std::fprintf(stderr, "%s %s: %.2f s (%.0fx copy), peak %.0f MB, solve %.2f s, layers %.2f s; read %.2f s, write %.2f s\n",
+                         input.c_str(), c.name.c_str(), t, t / copy.seconds, peak, solve, lay, read_s, write_s);
             csv << input << "," << c.name << "," << W << "x" << H << "," << opt.layers << "," << t << "," << copy.seconds << ","
-                << t / copy.seconds << "," << peak << "," << rmax << "," << solve << "," << lay << "\n";
+                << t / copy.seconds << "," << peak << "," << rmax << "," << solve << "," << lay << "," << read_s << ","
+                << write_s << "\n";
             char row[400];
-            std::snprintf(row, sizeof row, "| %s | %s | %.2f | %.0f | %.0f | %.2f | %.2f | %.1f |\n", input.c_str(),
-                          c.name.c_str(), t, t / copy.seconds, peak, solve, lay, rmax);
+            std::snprintf(row, sizeof row, "| %s | %s | %.2f | %.0f | %.0f | %.2f | %.2f | %.1f | %.2f | %.2f |\n", input.c_str(),
+                          c.name.c_str(), t, t / copy.seconds, peak, solve, lay, rmax, read_s, write_s);
             md << row;
         }
     }

@@ -59,15 +59,30 @@ void ensure_exr_setup() {
         Imf::staticInitialize();
         if (Imf::Attribute::knownType("idmanifest")) Imf::IDManifestAttribute::unRegisterAttributeType();
     });
-    // OpenEXR's worker pool is empty until an application sizes it (every
-    // file then compresses and decompresses on the calling thread alone: a
-    // 4K RGBA + AOV zip file took 2.7 s to write on two cores). Sized to the
-    // process's thread budget (the CLI's --threads limits it); resized only
-    // when that budget changes.
-    static std::mutex mutex;
-    const std::lock_guard<std::mutex> lock(mutex);
-    const int workers = exr_thread_count() > 1 ? exr_thread_count() : 0;
-    if (Imf::globalThreadCount() != workers) Imf::setGlobalThreadCount(workers);
+}
+
+namespace {
+std::mutex pool_mutex;
+int files_in_flight = 0;  // under pool_mutex
+}  // namespace
+
+ExrThreads::ExrThreads() {
+    const std::lock_guard<std::mutex> lock(pool_mutex);
+    if (files_in_flight == 0) {
+        // One thread: no workers (the calling thread does everything).
+        const int workers = exr_thread_count() > 1 ? exr_thread_count() : 0;
+        if (Imf::globalThreadCount() != workers) Imf::setGlobalThreadCount(workers);
+    }
+    ++files_in_flight;
+}
+
+ExrThreads::~ExrThreads() {
+    const std::lock_guard<std::mutex> lock(pool_mutex);
+    if (--files_in_flight > 0) return;
+    try {
+        if (Imf::globalThreadCount() != 0) Imf::setGlobalThreadCount(0);
+    } catch (...) {  // the pool keeps its threads; nothing else depends on it
+    }
 }
 
 #if defined(__SANITIZE_THREAD__)

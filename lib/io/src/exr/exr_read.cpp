@@ -208,6 +208,7 @@ Result<ImageSet> read_exr(const std::string& path) {
     if (Status st = check_exr_header_sizes(path, file_size); !st) return st;
     try {
         ensure_exr_setup();
+        const ExrThreads threads;  // outlives the file
         Imf::MultiPartInputFile file(path.c_str(), exr_thread_count());
         ImageSet set;
         const int n = file.parts();

@@ -228,6 +228,7 @@ Status write_exr(const std::string& file, const std::string& display, const std:
     std::optional<CheckedOStream> stream;
     try {
         ensure_exr_setup();
+        const ExrThreads threads;  // outlives the file
         const std::size_t n = images.size();
         bool multipart = n > 1;
         for (const auto& p : images)
