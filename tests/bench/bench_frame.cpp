@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
         for (const Config& c : configs) {
             std::vector<double> secs, reads, writes;
             Measure last;
-            double peak = 0;
+            double peak = 0, solve = 0, lay = 0, rmax = 0;
             for (int r = 0; r < c.reps; ++r) {
                 last = in_child([&] {
                     const double t_read = now();
@@ -208,14 +208,12 @@ int main(int argc, char** argv) {
                 });
                 secs.push_back(last.seconds);
                 peak = std::max(peak, last.peak_mb);
-                double sv = 0, ly = 0, rm = 0, rd = 0, wr = 0;
-                std::istringstream(last.detail) >> sv >> ly >> rm >> rd >> wr;
+                double rd = 0, wr = 0;  // the stats columns are the last run's
+                std::istringstream(last.detail) >> solve >> lay >> rmax >> rd >> wr;
                 reads.push_back(rd);
                 writes.push_back(wr);
             }
             const double t = median(secs), read_s = median(reads), write_s = median(writes);
-            double solve = 0, lay = 0, rmax = 0;
-            std::istringstream(last.detail) >> solve >> lay >> rmax;
             std::fprintf(stderr, "%s %s: %.2f s (%.0fx copy), peak %.0f MB, solve %.2f s, layers %.2f s; read %.2f s, write %.2f s\n",
                          input.c_str(), c.name.c_str(), t, t / copy.seconds, peak, solve, lay, read_s, write_s);
             csv << input << "," << c.name << "," << W << "x" << H << "," << opt.layers << "," << t << "," << copy.seconds << ","

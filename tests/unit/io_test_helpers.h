@@ -5,12 +5,20 @@
 
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include "gdof/image_set.h"
 
 namespace gdof::test {
+
+// A file's bytes ("" when it cannot be read).
+inline std::string file_bytes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
 
 // Bit-exact float comparison (NaN payloads and -0 included).
 inline bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }

@@ -16,10 +16,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_bytes(const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), {});
-}
 void write_bytes(const std::string& p, const std::string& b) {
     std::ofstream f(p, std::ios::binary | std::ios::trunc);
     f.write(b.data(), std::streamsize(b.size()));
@@ -87,7 +83,7 @@ TEST(io_errors, TruncatedExrAtManyCutPoints) {
     ScratchDir dir;
     const std::string good = dir.file("good.exr");
     { Status ws = io::write_image(good, sample_set()); ASSERT_TRUE(ws) << ws.message(); }
-    const std::string bytes = read_bytes(good);
+    const std::string bytes = file_bytes(good);
     ASSERT_GT(bytes.size(), 2000u);
     ASSERT_TRUE(io::read_image(good));
     const std::string cut = dir.file("shot.0001.exr");
@@ -108,7 +104,7 @@ TEST(io_errors, ByteCorruptedExrNeverCrashes) {
     ScratchDir dir;
     const std::string good = dir.file("good.exr");
     { Status ws = io::write_image(good, sample_set()); ASSERT_TRUE(ws) << ws.message(); }
-    const std::string bytes = read_bytes(good);
+    const std::string bytes = file_bytes(good);
     const std::string bad = dir.file("corrupt.exr");
     // A broken magic number or version field is always an error.
     {
@@ -165,7 +161,7 @@ TEST(io_errors, FailedWritesLeaveTargetUntouchedAndNoTempFiles) {
     ScratchDir dir;
     const std::string target = dir.file("keep.exr");
     ASSERT_TRUE(io::write_image(target, sample_set()));
-    const std::string before = read_bytes(target);
+    const std::string before = file_bytes(target);
     const auto mtime = fs::last_write_time(target);
 
     // 1. Duplicate part names.
@@ -208,14 +204,14 @@ TEST(io_errors, FailedWritesLeaveTargetUntouchedAndNoTempFiles) {
     Status s6 = io::write_image(png, deep_only);
     ASSERT_FALSE(s6);
     EXPECT_NE(s6.message().find("deep"), std::string::npos) << s6.message();
-    EXPECT_EQ(read_bytes(png), "previous");
+    EXPECT_EQ(file_bytes(png), "previous");
     // 7. Unknown output format.
     Status s7 = io::write_flat(dir.file("out.unknownformat"), sample_set().flat(0));
     EXPECT_FALSE(s7);
     EXPECT_NE(s7.message().find("out.unknownformat"), std::string::npos) << s7.message();
     EXPECT_FALSE(fs::exists(dir.file("out.unknownformat")));
 
-    EXPECT_EQ(read_bytes(target), before);
+    EXPECT_EQ(file_bytes(target), before);
     EXPECT_EQ(fs::last_write_time(target), mtime);
     EXPECT_TRUE(temp_files(dir.path()).empty()) << temp_files(dir.path()).front();
 }
@@ -304,7 +300,7 @@ TEST(io_errors, HeaderTileAndWindowSizesAreCheckedAgainstTheFile) {
         const std::string good = dir.file(deep ? "deep_tiled.exr" : "tiled.exr");
         ASSERT_TRUE(io::write_image(good, set));
         ASSERT_TRUE(io::read_image(good));
-        std::string bytes = read_bytes(good);
+        std::string bytes = file_bytes(good);
         const std::size_t tiles = attribute_value_at(bytes, "tiles", "tiledesc");
         ASSERT_NE(tiles, std::string::npos);
         put_le32(bytes, tiles, 1u << 20);
@@ -320,7 +316,7 @@ TEST(io_errors, HeaderTileAndWindowSizesAreCheckedAgainstTheFile) {
     Image flat = Image::with_channels({"Y"}, {0, 0, 16, 16});
     const std::string good = dir.file("scanlines.exr");
     ASSERT_TRUE(io::write_flat(good, flat));
-    std::string bytes = read_bytes(good);
+    std::string bytes = file_bytes(good);
     const std::size_t window = attribute_value_at(bytes, "dataWindow", "box2i");
     ASSERT_NE(window, std::string::npos);
     put_le32(bytes, window + 12, (1u << 30) - 1);  // max.y
@@ -378,7 +374,7 @@ TEST(io_errors, AttributesReadByContentMustTakeTheirDeclaredSize) {
     const std::string good = dir.file("rgba.exr");
     ASSERT_TRUE(io::write_flat(good, Image::with_channels({"R", "G", "B", "A"}, {0, 0, 8, 8})));
     ASSERT_TRUE(io::read_image(good));
-    const std::string bytes = read_bytes(good);
+    const std::string bytes = file_bytes(good);
     const std::size_t value = attribute_value_at(bytes, "channels", "chlist");
     ASSERT_NE(value, std::string::npos);
     const std::uint32_t declared = std::uint8_t(bytes[value - 4]) | std::uint8_t(bytes[value - 3]) << 8;
@@ -452,7 +448,7 @@ TEST(io_errors, TiledHeaderWithoutADataWindowIsCheckedWithOpenExrsDefault) {
     ImageSet set;
     set.parts = {a};
     ASSERT_TRUE(io::write_image(good, set));
-    std::string bytes = read_bytes(good);
+    std::string bytes = file_bytes(good);
     const std::size_t tiles = attribute_value_at(bytes, "tiles", "tiledesc");
     const std::size_t window = bytes.find(std::string("dataWindow") + '\0');
     ASSERT_NE(tiles, std::string::npos);

@@ -13,6 +13,7 @@
 
 #include "fault_support.h"
 #include "gdof/io/image_io.h"
+#include "io_test_helpers.h"
 #include "test_support.h"
 
 using namespace gdof;
@@ -33,10 +34,6 @@ ImageSet noise(int w, int h) {
     return set;
 }
 
-std::string read_all(const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), {});
-}
 void write_all(const std::string& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -68,7 +65,7 @@ TEST(io_faults, FullDiskKeepsTheOldFileAndSaysNoSpace) {
     ASSERT_FALSE(st);
     EXPECT_TRUE(has(st.message(), "'" + out + "'")) << st.message();
     EXPECT_TRUE(has(st.message(), "No space left on device")) << st.message();
-    EXPECT_EQ(read_all(out), "old frame");
+    EXPECT_EQ(file_bytes(out), "old frame");
     EXPECT_TRUE(temp_files(dir.file("disk")).empty());
 
     // PNG and TIFF through OpenImageIO, likewise.
@@ -98,7 +95,7 @@ TEST(io_faults, FileSizeLimitGivesEfbigNotACorruptFile) {
     ASSERT_FALSE(st);
     EXPECT_TRUE(has(st.message(), "'" + out + "'")) << st.message();
     EXPECT_TRUE(has(st.message(), "File too large")) << st.message();
-    EXPECT_EQ(read_all(out), "old frame");
+    EXPECT_EQ(file_bytes(out), "old frame");
     EXPECT_TRUE(temp_files(dir.path().string()).empty());
     // Under the limit the same write succeeds.
     with_file_size_limit(8 << 20, [&] { st = io::write_image(out, noise(512, 512)); });
@@ -156,7 +153,7 @@ TEST(io_faults, CancelledWriteDropsTheFinishedTemporaryFile) {
     ASSERT_FALSE(st);
     EXPECT_EQ(st.code(), StatusCode::Cancelled) << st.message();
     EXPECT_EQ(polls, 1);
-    EXPECT_EQ(read_all(out), "old frame");
+    EXPECT_EQ(file_bytes(out), "old frame");
     EXPECT_TRUE(temp_files(dir.path().string()).empty());
 }
 

@@ -12,8 +12,6 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 #include "gdof/io/image_io.h"
 #include "io_test_helpers.h"
@@ -304,10 +302,6 @@ TEST(io_roundtrip, ExrWorkersFollowTheThreadBudgetAndLeaveNoThreads) {
     set.parts.push_back(img);
     io::WriteOptions wo;
     wo.compression = "zip";
-    auto bytes = [](const std::string& path) {
-        std::ifstream f(path, std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(f), {});
-    };
     std::string written[2];
     for (int budget : {1, 2}) {
         const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(budget));
@@ -316,7 +310,7 @@ TEST(io_roundtrip, ExrWorkersFollowTheThreadBudgetAndLeaveNoThreads) {
         EXPECT_EQ(Imf::globalThreadCount(), 0) << "budget " << budget << ": workers left after the last file";
         ASSERT_EQ(back.size(), 1u);
         expect_same_flat(img, back.flat(0), "budget " + std::to_string(budget));
-        written[budget - 1] = bytes(path);
+        written[budget - 1] = file_bytes(path);
     }
     EXPECT_FALSE(written[0].empty());
     EXPECT_EQ(written[0], written[1]) << "the file's bytes depend on the number of threads";

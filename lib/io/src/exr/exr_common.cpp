@@ -70,7 +70,8 @@ ExrThreads::ExrThreads() {
     const std::lock_guard<std::mutex> lock(pool_mutex);
     if (files_in_flight == 0) {
         // One thread: no workers (the calling thread does everything).
-        const int workers = exr_thread_count() > 1 ? exr_thread_count() : 0;
+        const int n = exr_thread_count();
+        const int workers = n > 1 ? n : 0;
         if (Imf::globalThreadCount() != workers) Imf::setGlobalThreadCount(workers);
     }
     ++files_in_flight;
