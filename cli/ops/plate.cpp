@@ -85,7 +85,7 @@ void do_probe(Frame& f, const Step& s) {
     if (!p) runtime_error("--probe: " + where + ": " + message_naming_flag(p.status()));
     std::ostringstream o;
     o << "pixel " << x << "," << y << ": depth " << p->depth << ", world (" << p->position.x << ", " << p->position.y
-      << ", " << p->position.z << "), blur " << p->blur_px << " px" << (p->mixed ? ", a mixed silhouette pixel" : "")
+      << ", " << p->position.z << "), blur " << p->blur_px << " px" << (p->mixed ? ", a split silhouette pixel" : "")
       << "\n";
     std::cout << o.str();
     std::cout.flush();
@@ -93,7 +93,7 @@ void do_probe(Frame& f, const Step& s) {
 
 DepthCleanupOptions cleanup(const Step& s) {
     DepthCleanupOptions c;
-    c.remove_speckles = c.split_mixed = false;
+    c.remove_speckles = c.mixed_pixels = false;
     const std::string& v = s.args[0];
     if (v == "all") return {};
     if (v == "none") return c;
@@ -103,7 +103,7 @@ DepthCleanupOptions cleanup(const Step& s) {
         const std::string item = v.substr(pos, comma - pos);
         pos = comma + 1;
         if (item == "speckles") c.remove_speckles = true;
-        else if (item == "mixed") c.split_mixed = true;
+        else if (item == "mixed") c.mixed_pixels = true;
         else usage_error(s.flag + ": unknown step '" + item + "' (expected all, none, or a list of speckles, mixed)");
     }
     return c;
@@ -127,12 +127,12 @@ std::vector<Command> plate_commands() {
                  .stack = StackUse::NeedsImage, .run = do_view});
     t.push_back({.names = {"--depth-cleanup"}, .args = "all|none|LIST", .kind = Kind::Modifier, .group = P,
                  .help = "what --diffuse repairs in a plate's depth besides filling holes: all (default), none, or "
-                         "speckles,mixed (mixed: silhouette pixels split, and filled holes at a silhouette "
-                         "decided by their colour)",
+                         "speckles,mixed (mixed: silhouette pixels between two surfaces take the nearer one's depth, and "
+                         "filled holes at a silhouette are decided by their colour)",
                  .run = [](Frame& f, const Step& s) {
                      const DepthCleanupOptions c = cleanup(s);
                      f.defocus.cleanup.remove_speckles = c.remove_speckles;
-                     f.defocus.cleanup.split_mixed = c.split_mixed;
+                     f.defocus.cleanup.mixed_pixels = c.mixed_pixels;
                  },
                  .check = [](const Step& s) { cleanup(s); }});
     t.push_back({.names = {"--focus-at"}, .args = "X,Y", .kind = Kind::Modifier, .group = P,

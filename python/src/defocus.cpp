@@ -77,7 +77,7 @@ const std::map<std::string, Setter>& keywords() {
         {"baseline", [](Settings& s, const nb::handle& v) { s.options.source.depth_decode.baseline = nb::cast<double>(v); }},
         {"depth_range", [](Settings& s, const nb::handle& v) { s.options.source.depth_decode.range = nb::cast<bool>(v); }},
         {"remove_speckles", [](Settings& s, const nb::handle& v) { s.options.cleanup.remove_speckles = nb::cast<bool>(v); }},
-        {"split_mixed", [](Settings& s, const nb::handle& v) { s.options.cleanup.split_mixed = nb::cast<bool>(v); }},
+        {"mixed_pixels", [](Settings& s, const nb::handle& v) { s.options.cleanup.mixed_pixels = nb::cast<bool>(v); }},
         {"roi", [](Settings& s, const nb::handle& v) { s.options.roi = to_roi(v); }},
         {"focal_length_mm", [](Settings& s, const nb::handle& v) { s.lens.focal_length_mm = nb::cast<double>(v); }},
         {"sensor_width_mm", [](Settings& s, const nb::handle& v) { s.lens.sensor_width_mm = nb::cast<double>(v); }},
@@ -147,7 +147,7 @@ void register_defocus(nb::module_& m) {
     nb::class_<DepthCleanupOptions>(m, "DepthCleanupOptions", "Plate depth repair (plate.h)")
         .def(nb::init<>())
         .def_rw("remove_speckles", &DepthCleanupOptions::remove_speckles)
-        .def_rw("split_mixed", &DepthCleanupOptions::split_mixed)
+        .def_rw("mixed_pixels", &DepthCleanupOptions::mixed_pixels)
         .def_rw("continuity", &DepthCleanupOptions::continuity)
         .def_rw("speckle_px", &DepthCleanupOptions::speckle_px)
         .def_rw("mixed_step", &DepthCleanupOptions::mixed_step);

@@ -147,7 +147,7 @@ GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const
 // is an error). Each present pixel (A > 0 or colour != 0; no A channel:
 // opaque) goes to the slice of its depth, with its colour and alpha. The
 // depth is `options.depth` (a plate's prepared depth, plate.h: holes filled,
-// mixed silhouette pixels split), or else the depth channel
+// mixed silhouette pixels at the nearer depth, lost ones split), or else the depth channel
 // (source.depth_channel or Z, depth.Z, Depth.Z, depth, Depth) decoded with
 // source.depth_decode, where a depth that is not finite (a hole, sky) is
 // +inf. A mixed pixel goes to its background's slice with the background's

@@ -14,22 +14,21 @@
 //      hole pixel takes the colour-weighted median of the depths around it,
 //      filled from the hole's edge inwards, so a fill follows the plate's
 //      edges instead of blurring across a silhouette;
-//   4. mixed pixels: a pixel whose depth lies strictly between a nearer and
-//      a farther surface across a discontinuity is split into its two parts:
-//      the foreground's depth and share of the pixel (from where its depth
-//      lies between the two) and the background's depth, and its colour into
-//      the two surfaces' colours (each from the pure pixels of that surface
-//      around it, corrected so the parts composite back to the pixel). So a
-//      blurred foreground's edge is soft as the plate's anti-aliasing says,
-//      no ring of intermediate depth appears, and the background continued
-//      behind a foreground does not take the foreground's colour;
+//   4. mixed pixels: a pixel whose depth lies between a nearer and a
+//      farther surface across a discontinuity (a 3x3 neighbourhood spanning
+//      `mixed_step`) takes the nearer surface's depth: part of it is the
+//      foreground, whose blur must carry it, and no ring of intermediate
+//      depth (a slice and a blur of its own) appears around a silhouette.
+//      (Splitting such a pixel into a foreground share and a background part
+//      measured worse at every depth edge of the benchmark: docs/diffusion.md.)
 //   5. holes at silhouettes: a sensor loses the pixels next to a depth step
 //      (the projector's shadow on the far side, flying pixels filtered out),
 //      which are the silhouette's mixed pixels; the fill alone makes each
 //      all foreground or all background. A filled hole whose neighbourhood
 //      holds both sides of a step is decided by its colour between the
 //      nearest measured pixels of each side: all one side's depth, or split
-//      as in 4 with the share its colour says. Where the two sides' colours
+//      into a foreground share (its colour's) at the foreground's depth and
+//      the background part (MixedPixel). Where the two sides' colours
 //      are too alike, or the pixel is no mix of them, the fill stays.
 // The focus tools read the prepared depth: the median depth in a small
 // window around a pixel (robust to noise and holes) and a probe of depth,
@@ -51,14 +50,14 @@ namespace gdof {
 
 struct DepthCleanupOptions {
     bool remove_speckles = true;
-    bool split_mixed = true;  // steps 4 and 5
+    bool mixed_pixels = true;  // steps 4 and 5
     // Neighbouring depths within this ratio belong to one surface; a larger
     // step is a discontinuity (speckle islands, mixed pixels).
     double continuity = 1.05;
     // The largest island removed as a speckle, pixels; 0 = automatic:
     // max(4, pixels / 250000) (4 at 1080p, 33 at 4K).
     int speckle_px = 0;
-    // A mixed pixel lies between neighbours at least this ratio apart.
+    // A mixed pixel lies between neighbours at least this ratio apart (steps 4 and 5).
     double mixed_step = 1.10;
 };
 
@@ -69,11 +68,11 @@ struct GDOF_API DepthCleanupStats {
     std::size_t filled = 0;    // holes and speckles given a depth
     std::size_t silhouette_holes = 0;  // of them, next to a depth step and decided by their colour
     std::size_t sky = 0;       // pixels at infinite depth
-    std::size_t mixed = 0;     // pixels split into foreground and background
+    std::size_t mixed = 0;     // mixed pixels given the nearer surface's depth (step 4)
     std::string report() const;  // one line, for --stats
 };
 
-// A split silhouette pixel (step 4): `over` of the foreground part (colour
+// A split silhouette pixel (step 5): `over` of the foreground part (colour
 // fg_rgb, premultiplied, scaled by fg_share) on the background part (bg_rgb)
 // gives the pixel's colour back.
 struct MixedPixel {
@@ -124,7 +123,7 @@ struct PixelProbe {
     double depth = 0;       // NaN: no depth there; +inf: sky
     Vec3 position;          // world position at the pixel centre (NaN when no finite depth)
     double blur_px = 0;     // the field's blur radius there
-    bool mixed = false;     // a split silhouette pixel
+    bool mixed = false;     // a split silhouette pixel (a filled hole at a silhouette, step 5)
 };
 GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
                                         int r = 2);

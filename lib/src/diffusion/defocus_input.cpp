@@ -227,6 +227,9 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     const RgbaIndices rgba = find_rgba(flat);
     if (rgba.r < 0 || rgba.g < 0 || rgba.b < 0)
         return Status::error("defocus: the input has no R, G, B channels (channels: " + channel_list(flat) + ")");
+    // Checked here, not only per layer: a layer's extension would carry a
+    // bad pixel to its neighbours, and the message must name the plate's own.
+    if (Status st = defocus_detail::check_finite_colour(flat, rgba, "defocus", exec); !st) return st;
     auto pos = find_position_channels(flat, settings.source.position_channels);
     if (!pos) return pos.status().prefix("defocus");
     auto z = find_depth_channel(flat, settings.source.depth_channel);

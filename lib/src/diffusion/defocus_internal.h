@@ -29,6 +29,12 @@ struct LayerAnalysis {
 Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
                                     const DiffusionOptions& settings, const Exec& exec);
 
+// "WHERE: channel 'R' is nan at pixel (x, y) (colour must be finite)".
+Status non_finite_colour(const std::string& where, int channel, float value, int x, int y);
+// The first non-finite R, G, B or A of an image in row order (channel order
+// within a pixel) as non_finite_colour; absent channels (index < 0) skipped.
+Status check_finite_colour(const Image& img, const RgbaIndices& rgba, const std::string& where, const Exec& exec);
+
 // Weight of a layer pixel as a known radius for the extrapolation (0: unknown).
 float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t pixel);
 

@@ -17,6 +17,27 @@ std::string num(double v) { return format_number(v, 6); }
 
 }  // namespace
 
+Status non_finite_colour(const std::string& where, int channel, float value, int x, int y) {
+    return Status::error(where + ": channel '" + std::string("RGBA").substr(std::size_t(channel), 1) + "' is " +
+                         num(value) + " at pixel " + pixel_str(x, y) + " (colour must be finite)");
+}
+
+Status check_finite_colour(const Image& img, const RgbaIndices& rgba, const std::string& where, const Exec& exec) {
+    const Roi win = img.data_window();
+    const int w = win.width();
+    const int chans[4] = {rgba.r, rgba.g, rgba.b, rgba.a};
+    return parallel_run(exec, win.height(), [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 4; ++c) {
+                    if (chans[c] < 0) continue;
+                    const float v = img.plane(chans[c])[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+                    if (!std::isfinite(v)) return non_finite_colour(where, c, v, win.x0 + x, win.y0 + int(y));
+                }
+        return Status::ok();
+    }, 16);
+}
+
 std::string layer_label(const Layer& layer, int index) {
     return "layer " + std::to_string(index) + (layer.name.empty() ? std::string() : " '" + layer.name + "'");
 }
@@ -62,10 +83,7 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
                 bool nz = false;
                 for (int c = 0; c < 4; ++c) {
                     const float v = planes[c][i];
-                    if (!std::isfinite(v))
-                        return Status::error(where + ": channel '" + std::string("RGBA").substr(std::size_t(c), 1) +
-                                             "' is " + num(v) + " at pixel " + pixel_str(win.x0 + x, win.y0 + int(y)) +
-                                             " (colour must be finite)");
+                    if (!std::isfinite(v)) return non_finite_colour(where, c, v, win.x0 + x, win.y0 + int(y));
                     nz = nz || v != 0.0f;
                 }
                 alpha = alpha || planes[3][i] > 0.0f;

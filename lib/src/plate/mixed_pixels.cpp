@@ -1,17 +1,16 @@
 // Mixed pixels at silhouettes: a renderer's filtered Z (the mean depth of the
 // samples that hit) and a depth sensor's "flying pixels" put a silhouette
 // pixel at a depth between the foreground's and the background's, where no
-// surface is. Such a pixel is split: it keeps the background's depth, and
-// the foreground gets the share of the pixel that the depth's position
-// between the two says: share = (far - depth) / (far - near).
+// surface is. Such a pixel takes the nearer surface's depth: part of it is
+// the foreground, whose blur must carry it (left between, it would land in a
+// slice of its own, with a blur that neither surface has). Splitting it into
+// a foreground share and a background part instead measured worse at every
+// depth edge of the benchmark (docs/diffusion.md, "Mixed pixels").
 //
-// Candidates are sandwiched: an adjacent pixel nearer and one farther than it
-// by more than `continuity` (a pixel of a sloping surface next to a
-// silhouette is continued by its own surface on one side). A candidate is
-// split when the pure surfaces around it -- the nearest and farthest depths
-// of the non-candidate pixels in its 7x7 window (a wide anti-aliasing filter
-// leaves ramps of mixed pixels, which must not count as a surface) -- span
-// at least `mixed_step` and it lies strictly between them.
+// Candidates (for speckle removal, which leaves them alone) are sandwiched:
+// an adjacent pixel nearer and one farther than it by more than `continuity`
+// (a pixel of a sloping surface next to a silhouette is continued by its own
+// surface on one side).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -95,52 +94,59 @@ void unmix(MixedPixel& m, const float* const rgb[3], const float pixel[3], const
 
 }  // namespace
 
-std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector<unsigned char>& candidate, int W,
-                                    int H, double continuity, double mixed_step, const float* const rgb[3]) {
-    std::vector<MixedPixel> out;
-    const std::vector<float> d0 = depth;  // decisions read the unsplit depths
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            const float d = d0[i];
-            if (!candidate[i] || !std::isfinite(d)) continue;
-            // The pure pixels (not candidates, finite depth) of the 7x7 window.
-            auto for_each_pure = [&](auto&& fn) {
-                for (int yy = std::max(0, y - 3); yy <= std::min(H - 1, y + 3); ++yy)
-                    for (int xx = std::max(0, x - 3); xx <= std::min(W - 1, x + 3); ++xx) {
-                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                        if (!candidate[j] && std::isfinite(d0[j])) fn(j, d0[j]);
-                    }
-            };
-            float near = std::numeric_limits<float>::infinity(), far = -near;
-            for_each_pure([&](std::size_t, float q) {
+namespace {
+
+// "Between" the nearest and farthest neighbours: more than 2% from each. A
+// ramp of mixed pixels (a wide anti-aliasing filter) moves whole; a surface
+// next to the step, whose pixels vary by less, stays. (5% left a third of
+// the gain at the Cornell box's edges; 0 eroded the background's pixels
+// beside every silhouette.)
+constexpr double kBetween = 1.02;
+// Halfway between a step (the 5x5 window spans what the 3x3 does) and a
+// ramp (twice as much), in log depth.
+constexpr double kRamp = 1.5;
+
+}  // namespace
+
+std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec) {
+    const std::vector<float> d0 = depth;  // decisions read the depths as measured
+    // The nearest and farthest depth of the (2r+1)^2 window around (x, y),
+    // from (near, far) on (sky is farthest; holes do not count).
+    auto window = [&](int x, int y, int r, float& near, float& far) {
+        for (int yy = std::max(0, y - r); yy <= std::min(H - 1, y + r); ++yy)
+            for (int xx = std::max(0, x - r); xx <= std::min(W - 1, x + r); ++xx) {
+                const float q = d0[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
+                if (std::isnan(q)) continue;
                 near = std::min(near, q);
                 far = std::max(far, q);
-            });
-            if (!(far >= near) || double(far) < double(near) * mixed_step) continue;
-            if (!(double(d) > double(near) * continuity && double(d) * continuity < double(far))) continue;
-            MixedPixel m;
-            m.index = i;
-            m.fg_depth = near;
-            m.fg_share = std::clamp((far - d) / (far - near), 0.0f, 1.0f);
-            const float pixel[3] = {rgb[0] ? rgb[0][i] : 0.f, rgb[1] ? rgb[1][i] : 0.f, rgb[2] ? rgb[2][i] : 0.f};
-            double fg_sum[3] = {0, 0, 0}, bg_sum[3] = {0, 0, 0};
-            int fg_n = 0, bg_n = 0;
-            if (rgb[0] && rgb[1] && rgb[2])
-                for_each_pure([&](std::size_t j, float q) {
-                    const bool fg = double(q) <= double(near) * continuity, bg = double(q) * continuity >= double(far);
-                    if (!fg && !bg) return;
-                    double* s = fg ? fg_sum : bg_sum;
-                    for (int c = 0; c < 3; ++c) s[c] += rgb[c][j];
-                    ++(fg ? fg_n : bg_n);
-                });
-            if (rgb[0] && rgb[1] && rgb[2]) unmix(m, rgb, pixel, fg_sum, fg_n, bg_sum, bg_n);
-            else
-                for (int c = 0; c < 3; ++c) m.fg_rgb[c] = m.bg_rgb[c] = pixel[c];
-            depth[i] = far;
-            out.push_back(m);
-        }
-    return out;
+            }
+    };
+    std::vector<std::size_t> row_count(std::size_t(H), 0);
+    parallel_for(exec, H, [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                const float d = d0[i];
+                if (!std::isfinite(d)) continue;
+                float near = d, far = d;
+                window(x, y, 1, near, far);
+                if (!(double(far) >= double(near) * mixed_step)) continue;
+                if (!(double(d) > double(near) * kBetween && double(d) * kBetween < double(far))) continue;
+                // A step, not a surface receding steeply (a floor at a grazing
+                // angle, a ramp in a proxy's depth): the 5x5 window spans
+                // little more than the 3x3 (in log depth: a ramp doubles it).
+                if (std::isfinite(far)) {
+                    float near5 = near, far5 = far;
+                    window(x, y, 2, near5, far5);
+                    if (std::log(double(far5) / double(near5)) > kRamp * std::log(double(far) / double(near))) continue;
+                }
+                depth[i] = near;
+                ++row_count[std::size_t(y)];
+            }
+    }, 16);
+    std::size_t n = 0;
+    for (std::size_t c : row_count) n += c;
+    return n;
 }
 
 // Holes at silhouettes (plate_internal.h): the colour of a filled hole next
@@ -152,7 +158,7 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
     std::vector<MixedPixel> out;
     recoloured = 0;
     if (!rgb[0] || !rgb[1] || !rgb[2]) return out;
-    constexpr int kR = 3;  // the 7x7 window of split_mixed
+    constexpr int kR = 3;  // a 7x7 window
     // Only holes are written below, so the measured pixels the decisions read
     // keep their depths throughout.
     auto pure = [&](std::size_t j) { return !was_hole[j] && !candidate[j] && std::isfinite(depth[j]); };

@@ -1,6 +1,6 @@
-// prepare_plate_depth (plate.h): decode, remove speckles, fill holes, split
-// mixed silhouette pixels, decide the holes at silhouettes by their colour,
-// count what was done.
+// prepare_plate_depth (plate.h): decode, remove speckles, fill holes, give
+// mixed silhouette pixels the nearer surface's depth, decide the holes at
+// silhouettes by their colour, count what was done.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,7 +20,7 @@ std::string DepthCleanupStats::report() const {
     return "depth: " + std::to_string(holes) + " holes (" + pct(holes) + "), " + std::to_string(speckles) +
            " speckle pixels, " + std::to_string(filled) + " filled (" + std::to_string(silhouette_holes) +
            " at silhouettes by colour), " + std::to_string(mixed) +
-           " mixed silhouette pixels split, " + std::to_string(sky) + " sky (" + pct(sky) + ")";
+           " mixed silhouette pixels to the nearer surface, " + std::to_string(sky) + " sky (" + pct(sky) + ")";
 }
 
 Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
@@ -84,28 +84,21 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     // hole to fill: most rendered depth has none.
     const bool any_hole = out.stats.holes + out.stats.speckles > 0;
     std::vector<unsigned char> was_hole;
-    if (any_hole && options.split_mixed) {
+    if (any_hole && options.mixed_pixels) {
         was_hole.resize(n);
         for (std::size_t i = 0; i < n; ++i) was_hole[i] = std::isnan(out.depth[i]) ? 1 : 0;
     }
     if (any_hole)
         if (Status st = fill_holes(out.depth, W, H, make_guide(plate, exec), exec, out.stats.filled); !st)
             return st.prefix("plate depth");
-    if (options.split_mixed) {
+    if (options.mixed_pixels) {
         const RgbaIndices ix = find_rgba(plate);
         const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
                                ix.b >= 0 ? plate.plane(ix.b) : nullptr};
-        out.mixed = split_mixed(out.depth, mixed, W, H, options.continuity, options.mixed_step, rgb);
-        if (!was_hole.empty()) {
-            std::vector<MixedPixel> at_silhouettes = split_silhouette_holes(
-                out.depth, was_hole, mixed, W, H, options.continuity, options.mixed_step, rgb, out.stats.silhouette_holes);
-            // Both in index order, and disjoint (a hole is never a candidate).
-            std::vector<MixedPixel> merged(out.mixed.size() + at_silhouettes.size());
-            std::merge(out.mixed.begin(), out.mixed.end(), at_silhouettes.begin(), at_silhouettes.end(), merged.begin(),
-                       [](const MixedPixel& a, const MixedPixel& b) { return a.index < b.index; });
-            out.mixed = std::move(merged);
-        }
-        out.stats.mixed = out.mixed.size();
+        out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec);
+        if (!was_hole.empty())
+            out.mixed = split_silhouette_holes(out.depth, was_hole, mixed, W, H, options.continuity, options.mixed_step,
+                                               rgb, out.stats.silhouette_holes);
     }
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;

@@ -37,11 +37,11 @@ std::size_t remove_speckles(std::vector<float>& depth, int width, int height, do
 Status fill_holes(std::vector<float>& depth, int width, int height, const Guide& guide, const Exec& exec,
                   std::size_t& filled);
 
-// Splits the mixed silhouette pixels among the candidates (plate.h step 4):
-// `depth` takes the background's depth there. `rgb`: the plate's
-// premultiplied R, G, B planes (null: the parts keep the pixel's colour).
-std::vector<MixedPixel> split_mixed(std::vector<float>& depth, const std::vector<unsigned char>& candidate, int width,
-                                    int height, double continuity, double mixed_step, const float* const rgb[3]);
+// Mixed silhouette pixels (plate.h step 4) take the nearer surface's depth:
+// a pixel whose 3x3 neighbourhood spans a step of at least `mixed_step` and
+// whose depth lies between its nearest and farthest neighbours (measurably:
+// 2% from each), unless the 5x5 window says it is a ramp. Returns how many.
+std::size_t mixed_to_nearer(std::vector<float>& depth, int width, int height, double mixed_step, const Exec& exec = {});
 
 // Holes at silhouettes: a sensor loses the pixels next to a depth step (the
 // projector's shadow on the far side, flying pixels filtered out), and those

@@ -195,10 +195,11 @@ TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface)
         DefocusOptions ds;
         DefocusStats stats;
         // Default auto cuts plates and deep inputs by blur alike. This
-        // ground recedes 11% in depth per pixel row: mixed-pixel splitting
-        // takes the ground beside the pole for silhouette pixels there (a
-        // known limit, docs/diffusion.md), so the layering is tested without it.
-        ds.cleanup.split_mixed = false;
+        // ground recedes 11% in depth per pixel row: the ground beside the
+        // pole lies between the pole and the next row, and the mixed-pixel
+        // step gives it the pole's depth (a known limit, docs/diffusion.md),
+        // so the layering is tested without it.
+        ds.cleanup.mixed_pixels = false;
         auto cut = defocus(input, field, cam, ds, &stats);
         ASSERT_TRUE(cut) << cut.message();
         EXPECT_GE(stats.layers, 3) << (deep ? "deep" : "flat");

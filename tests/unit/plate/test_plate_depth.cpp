@@ -1,6 +1,6 @@
 // Plate depth preparation (plate.h) against the true depth of generated
 // plates: holes filled, speckles removed without eating thin structures,
-// mixed silhouette pixels split into their true parts, and the focus tools.
+// mixed silhouette pixels given the nearer surface's depth, and the focus tools.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -86,7 +86,7 @@ TEST(plate_depth, HolesAreFilledWithTheTrueDepthFollowingThePlatesEdges) {
     });
     DepthDecode dec{DepthEncoding::Scaled, 1.0 / 5000.0};
     DepthCleanupOptions opt;
-    opt.split_mixed = false;
+    opt.mixed_pixels = false;
     auto pd = prepare_plate_depth(img, 4, dec, flags_camera(), opt);
     ASSERT_TRUE(pd) << pd.message();
     EXPECT_EQ(pd->stats.holes, nholes);
@@ -129,7 +129,7 @@ TEST(plate_depth, HoleAcrossAThinPoleKeepsThePolesDepth) {
                 img.at(4, x, y) = in_hole(x, y) ? 0.0f : 1.5f;
             }
     DepthCleanupOptions opt;
-    opt.split_mixed = false;
+    opt.mixed_pixels = false;
     opt.remove_speckles = false;
     auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), opt);
     ASSERT_TRUE(pd) << pd.message();
@@ -216,7 +216,7 @@ TEST(plate_depth, SpecklesAcrossRowBandsAndThreadCounts) {
     EXPECT_EQ(0, std::memcmp(a->depth.data(), b->depth.data(), a->depth.size() * sizeof(float)));
 }
 
-TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
+TEST(plate_depth, MixedSilhouettePixelsTakeTheNearerSurfacesDepth) {
     // Foreground (depth 2) left of column 80, background (6) right of it;
     // column 80 holds the renderer's mean depth of a pixel covered beta by
     // the foreground, beta varying down the edge.
@@ -228,31 +228,46 @@ TEST(plate_depth, MixedSilhouettePixelsAreSplitIntoTheirParts) {
     });
     auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
     ASSERT_TRUE(pd) << pd.message();
-    ASSERT_TRUE(pd->has_mixed());
-    std::size_t checked = 0;
+    EXPECT_FALSE(pd->has_mixed()) << "no pixel is split";
+    EXPECT_EQ(pd->stats.mixed, std::size_t(kH));
     for (int y = 0; y < kH; ++y) {
-        const double b = beta(y);
-        if (b < 0.15 || b > 0.85) continue;  // within 5% of a side: continuous with it
-        const std::size_t i = std::size_t(y) * kW + 80;
-        const MixedPixel* m = pd->mixed_at(i);
-        ASSERT_NE(m, nullptr) << y;
-        EXPECT_NEAR(m->fg_share, b, 0.02) << y;
-        EXPECT_FLOAT_EQ(m->fg_depth, 2.0f);
-        EXPECT_FLOAT_EQ(pd->depth[i], 6.0f);
-        // The parts' colours composite back to the pixel, each near its surface's.
-        const float pix[3] = {img.at(0, 80, y), img.at(1, 80, y), img.at(2, 80, y)};
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(m->fg_share * m->fg_rgb[c] + (1 - m->fg_share) * m->bg_rgb[c], pix[c], 1e-5) << y;
-        ++checked;
+        EXPECT_FLOAT_EQ(pd->depth[std::size_t(y) * kW + 80], 2.0f) << y;
+        // The surfaces beside the step keep their depths.
+        for (int x : {78, 79}) EXPECT_FLOAT_EQ(pd->depth[std::size_t(y) * kW + std::size_t(x)], 2.0f) << x << "," << y;
+        for (int x : {81, 82}) EXPECT_FLOAT_EQ(pd->depth[std::size_t(y) * kW + std::size_t(x)], 6.0f) << x << "," << y;
     }
-    EXPECT_GT(checked, 80u);
-    for (int y = 0; y < kH; ++y)
-        for (int x : {78, 79, 81, 82}) EXPECT_EQ(pd->mixed_at(std::size_t(y) * kW + std::size_t(x)), nullptr);
-    // A continuous slope has no mixed pixel.
-    Image ramp = plate([](int x, int) { return float(2.0 + 0.05 * x); });
-    auto pr = prepare_plate_depth(ramp, 4, DepthDecode{}, flags_camera());
-    ASSERT_TRUE(pr);
-    EXPECT_EQ(pr->stats.mixed, 0u);
+    // A wider anti-aliasing filter: two mixed columns (covered 2/3 and 1/3).
+    // The nearer takes the foreground's depth; the other, whose 5x5 window
+    // reads as a ramp, moves no farther and not past the foreground.
+    Image wide = plate([](int x, int) {
+        if (x < 80) return 2.0f;
+        if (x > 81) return 6.0f;
+        return x == 80 ? float(2.0 * 2 / 3 + 6.0 / 3) : float(2.0 / 3 + 6.0 * 2 / 3);
+    });
+    auto pw = prepare_plate_depth(wide, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pw) << pw.message();
+    for (int y = 0; y < kH; ++y) {
+        const std::size_t i = std::size_t(y) * kW;
+        EXPECT_FLOAT_EQ(pw->depth[i + 80], 2.0f) << y;
+        EXPECT_LE(pw->depth[i + 81], wide.at(4, 81, y)) << y;
+        EXPECT_GE(pw->depth[i + 81], 2.0f) << y;
+        EXPECT_FLOAT_EQ(pw->depth[i + 82], 6.0f) << y;
+    }
+    // A surface receding steeply (7% per pixel: its 3x3 neighbourhoods span
+    // more than mixed_step, as a floor's do in a half-resolution proxy) is
+    // no silhouette: nothing moves. The step off is off.
+    for (double per_px : {1.04, 1.07}) {
+        Image ramp = plate([&](int x, int) { return float(2.0 * std::pow(per_px, x)); });
+        auto pr = prepare_plate_depth(ramp, 4, DepthDecode{}, flags_camera());
+        ASSERT_TRUE(pr);
+        EXPECT_EQ(pr->stats.mixed, 0u) << per_px;
+    }
+    DepthCleanupOptions off;
+    off.mixed_pixels = false;
+    auto po = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), off);
+    ASSERT_TRUE(po);
+    EXPECT_EQ(po->stats.mixed, 0u);
+    EXPECT_FLOAT_EQ(po->depth[std::size_t(kH / 2) * kW + 80], img.at(4, 80, kH / 2));
 }
 
 // A sensor loses the silhouette's pixels (the shadow band on the far side of
