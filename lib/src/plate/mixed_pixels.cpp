@@ -69,17 +69,14 @@ constexpr double kResidual = 0.35;
 constexpr double kShareSlack = 0.25;
 constexpr double kPureShare = 0.1;
 
-// The parts' colours: each surface's mean over its pure pixels in the
-// window, then both moved by the residual so that the parts composite back
-// exactly: share * fg + (1 - share) * bg = pixel.
-void unmix(MixedPixel& m, const float* const rgb[3], const float pixel[3], const double fg_sum[3], int fg_n,
-           const double bg_sum[3], int bg_n) {
+// The parts' colours: each surface's colour (`fg`, `bg`), both moved by the
+// residual so that the parts composite back exactly:
+// share * fg + (1 - share) * bg = pixel.
+void unmix(MixedPixel& m, const float pixel[3], const double fg[3], const double bg[3]) {
     for (int c = 0; c < 3; ++c) {
-        const double fg = fg_n ? fg_sum[c] / fg_n : pixel[c];
-        const double bg = bg_n ? bg_sum[c] / bg_n : pixel[c];
-        const double r = pixel[c] - (m.fg_share * fg + (1.0 - m.fg_share) * bg);
-        m.fg_rgb[c] = float(fg + r);
-        m.bg_rgb[c] = float(bg + r);
+        const double r = pixel[c] - (m.fg_share * fg[c] + (1.0 - m.fg_share) * bg[c]);
+        m.fg_rgb[c] = float(fg[c] + r);
+        m.bg_rgb[c] = float(bg[c] + r);
         // No negative light: give the deficit to the other part.
         if (m.fg_rgb[c] < 0) {
             m.fg_rgb[c] = 0;
@@ -89,7 +86,6 @@ void unmix(MixedPixel& m, const float* const rgb[3], const float pixel[3], const
             m.fg_rgb[c] = float(pixel[c] / m.fg_share);
         }
     }
-    (void)rgb;
 }
 
 }  // namespace
@@ -242,7 +238,7 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
             m.fg_depth = fg_depth;
             m.fg_share = float(share);
             const float pixel[3] = {rgb[0][i], rgb[1][i], rgb[2][i]};
-            unmix(m, rgb, pixel, f, 1, b, 1);
+            unmix(m, pixel, f, b);
             depth[i] = bg_depth;
             out.push_back(m);
         }

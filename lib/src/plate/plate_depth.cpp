@@ -92,13 +92,14 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
         if (Status st = fill_holes(out.depth, W, H, make_guide(plate, exec), exec, out.stats.filled); !st)
             return st.prefix("plate depth");
     if (options.mixed_pixels) {
-        const RgbaIndices ix = find_rgba(plate);
-        const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
-                               ix.b >= 0 ? plate.plane(ix.b) : nullptr};
         out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec);
-        if (!was_hole.empty())
+        if (!was_hole.empty()) {  // the colour decides only holes
+            const RgbaIndices ix = find_rgba(plate);
+            const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
+                                   ix.b >= 0 ? plate.plane(ix.b) : nullptr};
             out.mixed = split_silhouette_holes(out.depth, was_hole, mixed, W, H, options.continuity, options.mixed_step,
                                                rgb, out.stats.silhouette_holes);
+        }
     }
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;
