@@ -12,7 +12,9 @@ namespace gdof {
 // `planes` (any number of channels) hold values where `weight` (one channel
 // over the same window) > 0. Every pixel whose weight is 0 gets a smooth,
 // weighted extrapolation of the known pixels (nearer known pixels count
-// more); pixels with weight > 0 keep their values bit for bit. Weights are
+// more: a pixel beside known ones takes nearly their values, whatever lies
+// a pyramid cell away); pixels with weight > 0 keep their values bit for
+// bit. Weights are
 // clamped to [0, 1]. Returns false (and changes nothing) when no pixel has
 // weight, when there are no planes or pixels, and when `weight` is not one
 // channel over the planes' window. Deterministic (the same bits for any

@@ -181,8 +181,11 @@ GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const
 // of the slice's own pixels -- for the farthest non-empty slice all hidden
 // pixels of the image -- that are not continued get alpha 1 and a push-pull
 // fill (fill.h) of the slice's unpremultiplied colour (weights = its alpha)
-// and of its depth and positions (weights = its alpha where finite), so
-// blurring a foreground away reveals plausible background, not black.
+// and of its depth and positions (weights = its alpha where finite), fed by
+// the rim of its coverage (own pixels within 4 px of pixels it does not
+// cover: the fill continues the slice's edge, not a highlight deeper
+// inside), so blurring a foreground away reveals plausible background, not
+// black.
 struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding (when `depth` is null)
@@ -203,7 +206,8 @@ GDOF_API Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_dept
 // Extends layers behind the nearer layers that hide them: every layer but
 // the nearest gets, at its hidden pixels within `extend_px` of its own
 // coverage, a push-pull fill of its unpremultiplied colour, depth and
-// positions, with alpha 1 (or its continued coverage, continue_coverage);
+// positions from the rim of that coverage (its pixels within 4 px of pixels
+// it does not cover), with alpha 1 (or its continued coverage, continue_coverage);
 // so blurring a nearer layer away reveals a plausible continuation instead
 // of black or a hole.
 struct ExtendOptions {

@@ -1,10 +1,13 @@
 // Push-pull fill (Gortler et al., "The Lumigraph", 1996): push averages
 // weighted values down a 2x pyramid; pull blends each level with the
-// bilinear upsampling of the filled level above, by the level's own weight.
+// upsampling of the filled level above, by the level's own weight. The
+// upsampling weights each bilinear tap by the coarse pixel's own weight, so
+// known coarse pixels decide before filled ones (locality at cell edges).
 // Float arithmetic; coarse levels only (level 0 is the caller's planes).
 #include "gdof/fill.h"
 
 #include <algorithm>
+#include <array>
 #include <span>
 #include <vector>
 
@@ -23,6 +26,12 @@ struct Level {
     float* plane(int c) { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
     const float* plane(int c) const { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
 };
+
+// The confidence of a coarse pixel that holds no sample of its own (filled
+// from the level above) in the pull's taps: small, so that such pixels only
+// decide where none of the four taps holds samples. Results move by at most
+// 0.0005 (relative L1, benchmark panels) between 0.001 and 0.1.
+constexpr float kFilledTap = 0.01f;
 
 // Where a fine pixel centre falls between two coarse pixels along one axis:
 // the two coarse indices and the weight of the second.
@@ -106,8 +115,10 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
           const Exec& exec) {
     const std::vector<Tap> tx = taps(fw, c.w), ty = taps(fh, c.h);
     const int nc = int(out.size());
+    const float* cw = c.weight.data();
     parallel_for(exec, fh, [&](long y0, long y1) {
         std::vector<float> w(static_cast<std::size_t>(fw));
+        std::vector<std::array<float, 5>> taps4(static_cast<std::size_t>(fw));  // per pixel, shared by the planes: 4 weights, their sum
         for (long yl = y0; yl < y1; ++yl) {
             const Tap& vy = ty[std::size_t(yl)];
             const std::size_t ra = std::size_t(vy.a) * std::size_t(c.w), rb = std::size_t(vy.b) * std::size_t(c.w);
@@ -117,7 +128,22 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
                 const float fwt = fweight[row + std::size_t(x)];
                 const float wx = unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
                 w[std::size_t(x)] = wx;
-                any = any || wx < 1.0f;
+                if (wx >= 1.0f) continue;
+                any = true;
+                // The four coarse taps weighted by their bilinear weights times their
+                // own confidence (pushed weight, + kFilledTap): a coarse pixel that
+                // holds samples outweighs one that was itself filled from further up.
+                // A plain bilinear tap let a pixel one step from known pixels, across
+                // a power-of-two cell boundary, take its value from a level whose
+                // cells span the whole neighbourhood (a lamp's brightness over a dark
+                // ceiling 60 px away).
+                const Tap& vx = tx[std::size_t(x)];
+                std::array<float, 5>& t = taps4[std::size_t(x)];
+                t[0] = (1.0f - vx.t) * (1.0f - vy.t) * (cw[ra + std::size_t(vx.a)] + kFilledTap);
+                t[1] = vx.t * (1.0f - vy.t) * (cw[ra + std::size_t(vx.b)] + kFilledTap);
+                t[2] = (1.0f - vx.t) * vy.t * (cw[rb + std::size_t(vx.a)] + kFilledTap);
+                t[3] = vx.t * vy.t * (cw[rb + std::size_t(vx.b)] + kFilledTap);
+                t[4] = t[0] + t[1] + t[2] + t[3];
             }
             if (!any) continue;
             for (int k = 0; k < nc; ++k) {
@@ -128,9 +154,8 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
                     const float wx = w[std::size_t(x)];
                     if (wx >= 1.0f) continue;
                     const Tap& vx = tx[std::size_t(x)];
-                    const float t = top[vx.a] + vx.t * (top[vx.b] - top[vx.a]);
-                    const float b = bot[vx.a] + vx.t * (bot[vx.b] - bot[vx.a]);
-                    const float up = t + vy.t * (b - t);
+                    const std::array<float, 5>& t = taps4[std::size_t(x)];
+                    const float up = (t[0] * top[vx.a] + t[1] * top[vx.b] + t[2] * bot[vx.a] + t[3] * bot[vx.b]) / t[4];
                     o[x] = wx > 0.0f ? wx * o[x] + (1.0f - wx) * up : up;
                 }
             }

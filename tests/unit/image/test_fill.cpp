@@ -126,3 +126,28 @@ TEST(fill, AWeightOfAnotherShapeFillsNothing) {
     EXPECT_TRUE(push_pull_fill(f.view(), f.weight_view()));  // the same call with the right weight fills
     EXPECT_NE(f.planes, before);
 }
+
+// A fill is local: a pixel next to known pixels takes their values, not an
+// average over a coarse cell that reaches a bright spot far away. A dark
+// ceiling (0.001) with a lamp (20) in it, unknown above row 32 (a hole as
+// tall as a pyramid cell, so every level up to 32 px holds nothing of it):
+// 60 px beside the lamp, the first unknown row takes the ceiling's value and
+// the second stays within 5x of it. Bilinear taps that ignored the coarse
+// pixels' own weights gave these rows 0.085 and 0.13 (85x and 130x), a
+// ghost of the lamp over a layer's hidden part.
+TEST(fill, APixelNextToKnownOnesTakesTheirValueNotAFarHighlights) {
+    const int W = 128, H = 96;
+    std::vector<float> v(W * H, 0.0f), w(W * H, 0.0f);
+    for (int y = 32; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const bool lamp = y >= 38 && y < 54 && x >= 90 && x < 110;
+            v[y * W + x] = lamp ? 20.0f : 0.001f;
+            w[y * W + x] = 1.0f;
+        }
+    const Roi win{0, 0, W, H};
+    ASSERT_TRUE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win)));
+    for (int x = 20; x < 40; ++x) {
+        EXPECT_NEAR(v[31 * W + x], 0.001f, 0.0002f) << "x " << x;
+        EXPECT_LT(v[30 * W + x], 0.005f) << "x " << x;
+    }
+}

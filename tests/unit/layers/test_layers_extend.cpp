@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "gdof/layers.h"
 
@@ -38,6 +39,40 @@ DeepImage scene() {
             d.samples(4)[k] = z;
         }
     return d;
+}
+
+// An opaque deep image with one sample per pixel: grey `value(x, y)` at
+// `depth(x, y)`.
+template <class Value, class Depth>
+DeepImage opaque_one_sample(const Roi& win, Value value, Depth depth) {
+    DeepImage d({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float},
+                 {"Z", PixelType::Float}},
+                win, win);
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1)));
+    for (int y = win.y0; y < win.y1; ++y)
+        for (int x = win.x0; x < win.x1; ++x) {
+            const std::size_t k = d.first_sample(d.pixel_index(x, y));
+            for (int c = 0; c < 3; ++c) d.samples(c)[k] = value(x, y);
+            d.samples(3)[k] = 1.0f;
+            d.samples(4)[k] = depth(x, y);
+        }
+    return d;
+}
+
+// The image's two layers (default split), the farther extended by
+// `extend_px` behind the nearer where that hides it fully (deep renders).
+std::vector<Layer> extended_pair(const DeepImage& d, double extend_px) {
+    auto layers = layers_from_deep(d, LayerSplit{});
+    EXPECT_TRUE(layers) << layers.message();
+    if (!layers || layers->size() != 2u) {
+        ADD_FAILURE() << "expected two layers";
+        return {};
+    }
+    ExtendOptions ext;
+    ext.extend_px = extend_px;
+    ext.occluder_alpha = 0.999f;
+    EXPECT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
+    return std::move(layers).value();
 }
 
 }  // namespace
@@ -78,29 +113,41 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     // A wide opaque foreground hides the wall's right part; the wall extends
     // only extend_px behind it.
     const Roi win{0, 0, 40, 8};
-    DeepImage d({{"R", PixelType::Float}, {"G", PixelType::Float}, {"B", PixelType::Float}, {"A", PixelType::Float},
-                 {"Z", PixelType::Float}},
-                win, win);
-    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(d.npixels(), 1)));
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 40; ++x) {
-            const std::size_t k = d.first_sample(d.pixel_index(x, y));
-            const bool fg = x >= 10;
-            for (int c = 0; c < 3; ++c) d.samples(c)[k] = fg ? 1.0f : 0.5f;
-            d.samples(3)[k] = 1.0f;
-            d.samples(4)[k] = fg ? 1.0f : 9.0f;
-        }
-    LayerSplit split;
-    auto layers = layers_from_deep(d, split);
-    ASSERT_TRUE(layers) << layers.message();
-    ASSERT_EQ(layers->size(), 2u);
-    ExtendOptions ext;
-    ext.extend_px = 4.0;
-    ext.occluder_alpha = 0.999f;
-    ASSERT_TRUE(extend_layers_behind(*layers, win, ext));
-    const Image& bg = (*layers)[1].image;
+    const DeepImage d = opaque_one_sample(
+        win, [](int x, int) { return x >= 10 ? 1.0f : 0.5f; }, [](int x, int) { return x >= 10 ? 1.0f : 9.0f; });
+    std::vector<Layer> layers = extended_pair(d, 4.0);
+    ASSERT_EQ(layers.size(), 2u);
+    const Image& bg = layers[1].image;
     EXPECT_EQ(bg.data_window().x1, 14);  // pixels 10..13 are within 4 px of x = 9
     EXPECT_EQ(bg.at(3, 13, 4), 1.0f);
     EXPECT_NEAR(bg.at(0, 13, 4), 0.5f, 1e-6);
-    EXPECT_FALSE(extend_layers_behind(*layers, win, ExtendOptions{-1.0, false, 0.0f, {}, false, {}}));
+    EXPECT_FALSE(extend_layers_behind(layers, win, ExtendOptions{-1.0, false, 0.0f, {}, false, {}}));
+}
+
+// The extension continues what the layer shows at its edge, not what lies
+// deeper inside it: a dark ceiling (0.001, depth 10) with a lamp (20) whose
+// top is 6 px below a nearer band (depth 2) that hides the ceiling's upper
+// part. Behind the band the ceiling's continuation stays dark, beside the
+// lamp and above it. Before (every own pixel feeding the fill, bilinear pull
+// taps) it was 0.01 to 3.2 there: a ghost of the lamp over the whole ceiling,
+// revealed wherever the band's blurred edge is semi-transparent (the
+// benchmark's Cornell box with a sphere of focus).
+TEST(layers_extend, ABrightSpotInsideALayerDoesNotLeakIntoItsExtension) {
+    const Roi win{0, 0, 128, 64};
+    const DeepImage d = opaque_one_sample(
+        win,
+        [](int x, int y) {
+            const bool band = y < 32, lamp = y >= 38 && y < 54 && x >= 90 && x < 110;
+            return band ? 0.5f : lamp ? 20.0f : 0.001f;
+        },
+        [](int, int y) { return y < 32 ? 2.0f : 10.0f; });
+    std::vector<Layer> layers = extended_pair(d, 20.0);
+    ASSERT_EQ(layers.size(), 2u);
+    const Image& ceiling = layers[1].image;
+    for (int y = 12; y < 32; ++y)
+        for (int x = 10; x < 118; x += 4) {
+            ASSERT_TRUE(ceiling.data_window().contains(x, y));
+            EXPECT_EQ(ceiling.at(3, x, y), 1.0f);
+            EXPECT_LT(ceiling.at(0, x, y), 0.01f) << "x " << x << ", y " << y;
+        }
 }
