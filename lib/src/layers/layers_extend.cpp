@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdof/fill.h"
+#include "image/mask_dilate.h"
 #include "layers/layers_internal.h"
 
 namespace gdof {
@@ -48,32 +49,10 @@ void coverage(const Image& img, const Roi& work, std::vector<float>& alpha, std:
 constexpr int kRim = 4;
 
 std::vector<unsigned char> coverage_rim(const std::vector<unsigned char>& own, int w, int h, const Exec& exec) {
-    // Separable: any uncovered pixel within kRim along the row, then along the column.
-    std::vector<unsigned char> near_row(own.size()), rim(own.size());
-    parallel_for(exec, h, [&](long r0, long r1) {
-        for (long y = r0; y < r1; ++y) {
-            const unsigned char* o = own.data() + std::size_t(y) * std::size_t(w);
-            unsigned char* out = near_row.data() + std::size_t(y) * std::size_t(w);
-            int uncovered = 0;  // in [x - kRim, x + kRim]
-            for (int x = 0; x < std::min(kRim, w); ++x) uncovered += o[x] ? 0 : 1;
-            for (int x = 0; x < w; ++x) {
-                if (x + kRim < w) uncovered += o[x + kRim] ? 0 : 1;
-                if (x - kRim - 1 >= 0) uncovered -= o[x - kRim - 1] ? 0 : 1;
-                out[x] = uncovered > 0 ? 1 : 0;
-            }
-        }
-    }, 16);
-    parallel_for(exec, h, [&](long r0, long r1) {
-        for (long y = r0; y < r1; ++y) {
-            const int ya = std::max(0, int(y) - kRim), yb = std::min(h - 1, int(y) + kRim);
-            const std::size_t row = std::size_t(y) * std::size_t(w);
-            for (int x = 0; x < w; ++x) {
-                unsigned char any = 0;
-                for (int yy = ya; yy <= yb && !any; ++yy) any = near_row[std::size_t(yy) * std::size_t(w) + std::size_t(x)];
-                rim[row + std::size_t(x)] = own[row + std::size_t(x)] && any ? 1 : 0;
-            }
-        }
-    }, 16);
+    std::vector<unsigned char> rim(own.size());
+    for (std::size_t i = 0; i < own.size(); ++i) rim[i] = own[i] ? 0 : 1;
+    rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near an uncovered pixel
+    for (std::size_t i = 0; i < own.size(); ++i) rim[i] = own[i] && rim[i] ? 1 : 0;
     return rim;
 }
 
