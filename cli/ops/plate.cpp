@@ -93,7 +93,7 @@ void do_probe(Frame& f, const Step& s) {
 
 DepthCleanupOptions cleanup(const Step& s) {
     DepthCleanupOptions c;
-    c.remove_speckles = c.mixed_pixels = false;
+    c.remove_speckles = c.mixed_pixels = c.smooth_noise = false;
     const std::string& v = s.args[0];
     if (v == "all") return {};
     if (v == "none") return c;
@@ -104,7 +104,8 @@ DepthCleanupOptions cleanup(const Step& s) {
         pos = comma + 1;
         if (item == "speckles") c.remove_speckles = true;
         else if (item == "mixed") c.mixed_pixels = true;
-        else usage_error(s.flag + ": unknown step '" + item + "' (expected all, none, or a list of speckles, mixed)");
+        else if (item == "noise") c.smooth_noise = true;
+        else usage_error(s.flag + ": unknown step '" + item + "' (expected all, none, or a list of speckles, noise, mixed)");
     }
     return c;
 }
@@ -127,12 +128,14 @@ std::vector<Command> plate_commands() {
                  .stack = StackUse::NeedsImage, .run = do_view});
     t.push_back({.names = {"--depth-cleanup"}, .args = "all|none|LIST", .kind = Kind::Modifier, .group = P,
                  .help = "what --diffuse repairs in a plate's depth besides filling holes: all (default), none, or "
-                         "speckles,mixed (mixed: silhouette pixels between two surfaces take the nearer one's depth, and "
-                         "filled holes at a silhouette are decided by their colour)",
+                         "a list of speckles, noise, mixed (noise: a sensor's noisy depth, measured above 0.1%, is "
+                         "smoothed within each surface; mixed: silhouette pixels between two surfaces take the nearer "
+                         "one's depth, and filled holes at a silhouette are decided by their colour)",
                  .run = [](Frame& f, const Step& s) {
                      const DepthCleanupOptions c = cleanup(s);
                      f.defocus.cleanup.remove_speckles = c.remove_speckles;
                      f.defocus.cleanup.mixed_pixels = c.mixed_pixels;
+                     f.defocus.cleanup.smooth_noise = c.smooth_noise;
                  },
                  .check = [](const Step& s) { cleanup(s); }});
     t.push_back({.names = {"--focus-at"}, .args = "X,Y", .kind = Kind::Modifier, .group = P,

@@ -78,6 +78,7 @@ const std::map<std::string, Setter>& keywords() {
         {"depth_range", [](Settings& s, const nb::handle& v) { s.options.source.depth_decode.range = nb::cast<bool>(v); }},
         {"remove_speckles", [](Settings& s, const nb::handle& v) { s.options.cleanup.remove_speckles = nb::cast<bool>(v); }},
         {"mixed_pixels", [](Settings& s, const nb::handle& v) { s.options.cleanup.mixed_pixels = nb::cast<bool>(v); }},
+        {"smooth_noise", [](Settings& s, const nb::handle& v) { s.options.cleanup.smooth_noise = nb::cast<bool>(v); }},
         {"roi", [](Settings& s, const nb::handle& v) { s.options.roi = to_roi(v); }},
         {"focal_length_mm", [](Settings& s, const nb::handle& v) { s.lens.focal_length_mm = nb::cast<double>(v); }},
         {"sensor_width_mm", [](Settings& s, const nb::handle& v) { s.lens.sensor_width_mm = nb::cast<double>(v); }},
@@ -148,6 +149,7 @@ void register_defocus(nb::module_& m) {
         .def(nb::init<>())
         .def_rw("remove_speckles", &DepthCleanupOptions::remove_speckles)
         .def_rw("mixed_pixels", &DepthCleanupOptions::mixed_pixels)
+        .def_rw("smooth_noise", &DepthCleanupOptions::smooth_noise)
         .def_rw("continuity", &DepthCleanupOptions::continuity)
         .def_rw("speckle_px", &DepthCleanupOptions::speckle_px)
         .def_rw("mixed_step", &DepthCleanupOptions::mixed_step);

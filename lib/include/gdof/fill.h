@@ -3,6 +3,8 @@
 // and to extend a background layer's colour behind the foreground.
 #pragma once
 
+#include <span>
+
 #include "gdof/exec.h"
 #include "gdof/export.h"
 #include "gdof/image.h"
@@ -20,5 +22,14 @@ namespace gdof {
 // channel over the planes' window. Deterministic (the same bits for any
 // thread count of `exec`); cost O(pixels * planes).
 GDOF_API bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, const Exec& exec = {});
+
+// The same, filling only the unknown pixels that `wanted` marks (row-major
+// over the planes' window; empty: all): each gets the bits the whole fill
+// would give it, the other unknown pixels keep their values. A layer's
+// extension needs its fill in a band around the layer (5% of the unknown
+// pixels of a 4K frame's layers), and level 0 is most of the fill's cost.
+// Returns false also when `wanted` is not one value per pixel.
+GDOF_API bool push_pull_fill(const ImageView& planes, const ConstImageView& weight,
+                             std::span<const unsigned char> wanted, const Exec& exec = {});
 
 }  // namespace gdof

@@ -14,6 +14,12 @@
 //      hole pixel takes the colour-weighted median of the depths around it,
 //      filled from the hole's edge inwards, so a fill follows the plate's
 //      edges instead of blurring across a silhouette;
+//   3b. noise: where the depth's measured noise (second differences of
+//      inverse depth within surfaces, zero on any plane) is above
+//      kNoisyDepth, each pixel takes the plane fitted in inverse depth
+//      through its 5x5 neighbours that continue its surface: a noisy surface near a blur
+//      cut of the layer split would otherwise fall into two layers as
+//      speckle, each speck a silhouette of its own;
 //   4. mixed pixels: a pixel whose depth lies between a nearer and a
 //      farther surface across a discontinuity (a 3x3 neighbourhood spanning
 //      `mixed_step`) takes the nearer surface's depth: part of it is the
@@ -48,9 +54,19 @@
 
 namespace gdof {
 
+// Depth whose measured relative noise (DepthCleanupStats::noise) exceeds this
+// is smoothed (step 3b): a sensor's is 0.2-1%, a renderer's Z about 1e-7,
+// uint16 millimetres at 5 m about 1e-4 from quantisation.
+inline constexpr double kNoisyDepth = 0.001;
+inline constexpr int kNoiseSmoothingRadius = 2;  // a 5x5 window
+
 struct DepthCleanupOptions {
     bool remove_speckles = true;
     bool mixed_pixels = true;  // steps 4 and 5
+    // Step 3b: where the measured noise exceeds kNoisyDepth (a sensor's
+    // depth, not a renderer's Z), each pixel takes the plane fitted in inverse
+    // depth through its 5x5 neighbours on the same surface.
+    bool smooth_noise = true;
     // Neighbouring depths within this ratio belong to one surface; a larger
     // step is a discontinuity (speckle islands, mixed pixels).
     double continuity = 1.05;
@@ -69,6 +85,8 @@ struct GDOF_API DepthCleanupStats {
     std::size_t silhouette_holes = 0;  // of them, next to a depth step and decided by their colour
     std::size_t sky = 0;       // pixels at infinite depth
     std::size_t mixed = 0;     // mixed pixels given the nearer surface's depth (step 4)
+    double noise = 0.0;        // measured relative noise of the depth (standard deviation / depth)
+    int noise_smoothing_radius = 0;  // the smoothing window's radius (0: not smoothed)
     std::string report() const;  // one line, for --stats
 };
 

@@ -110,9 +110,9 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
 // with the bilinear upsampling of the (filled) coarser level `c` by
 // (1 - weight). Level 0 (`unknown_only`) writes only its unknown pixels
 // (weight 0 or NaN), straight into the caller's planes: known pixels keep
-// their bits.
+// their bits; with `wanted` (row-major, non-empty) only those it marks.
 void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<float* const> out, const Level& c,
-          const Exec& exec) {
+          std::span<const unsigned char> wanted, const Exec& exec) {
     const std::vector<Tap> tx = taps(fw, c.w), ty = taps(fh, c.h);
     const int nc = int(out.size());
     const float* cw = c.weight.data();
@@ -126,7 +126,8 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
             bool any = false;
             for (int x = 0; x < fw; ++x) {
                 const float fwt = fweight[row + std::size_t(x)];
-                const float wx = unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
+                const bool skip = !wanted.empty() && !wanted[row + std::size_t(x)];
+                const float wx = unknown_only ? (fwt > 0.0f || skip ? 1.0f : 0.0f) : fwt;
                 w[std::size_t(x)] = wx;
                 if (wx >= 1.0f) continue;
                 any = true;
@@ -167,7 +168,8 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
 // Rows of a level are independent in both passes, so they run in parallel
 // and the result is the same for any thread count. Level 0 is read and
 // written in place: only its unknown pixels change.
-bool push_pull(std::span<float* const> planes, const float* weight, int width, int height, const Exec& exec) {
+bool push_pull(std::span<float* const> planes, const float* weight, int width, int height,
+               std::span<const unsigned char> wanted, const Exec& exec) {
     const std::size_t n = std::size_t(width) * std::size_t(height);
     const int nc = int(planes.size());
     bool any = false, missing = false;
@@ -193,24 +195,30 @@ bool push_pull(std::span<float* const> planes, const float* weight, int width, i
     for (int li = int(levels.size()) - 2; li >= 0; --li) {
         Level& f = levels[std::size_t(li)];
         for (int k = 0; k < nc; ++k) ptrs[std::size_t(k)] = f.plane(k);
-        pull(f.w, f.h, f.weight.data(), false, ptrs, levels[std::size_t(li) + 1], exec);
+        pull(f.w, f.h, f.weight.data(), false, ptrs, levels[std::size_t(li) + 1], {}, exec);
     }
-    // Level 0: only the unknown pixels, from the first coarse level.
-    pull(width, height, weight, true, planes, levels[0], exec);
+    // Level 0: only the unknown pixels (that are wanted), from the first coarse level.
+    pull(width, height, weight, true, planes, levels[0], wanted, exec);
     return true;
 }
 
 }  // namespace
 
 bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, const Exec& exec) {
+    return push_pull_fill(planes, weight, {}, exec);
+}
+
+bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, std::span<const unsigned char> wanted,
+                    const Exec& exec) {
     using namespace image_detail;
     if (planes.window.empty() || planes.nchannels <= 0) return false;
+    if (!wanted.empty() && wanted.size() != planes.window.npixels()) return false;
     if (!check_view_shape(planes, kAnyChannelCount, planes.window, "fill planes") ||
         !check_view_shape(weight, 1, planes.window, "fill weight"))
         return false;
     const RowMajorPlanes<float> p(planes);
     const RowMajorPlanes<const float> w(weight);
-    if (!push_pull(p.planes(), w.plane(0), planes.width(), planes.height(), exec)) return false;
+    if (!push_pull(p.planes(), w.plane(0), planes.width(), planes.height(), wanted, exec)) return false;
     p.store();
     return true;
 }

@@ -197,10 +197,11 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // the fill treats planes independently given the weights.
     bool have_colour, have_depth;
     if (std::all_of(same_weights.begin(), same_weights.end(), [](unsigned char v) { return v != 0; })) {
-        have_colour = have_depth = push_pull_fill(fill_view, ConstImageView::planar(wcol.data(), 1, work), exec);
+        have_colour = have_depth = push_pull_fill(fill_view, ConstImageView::planar(wcol.data(), 1, work), ext, exec);
     } else {
-        have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work), exec);
-        have_depth = push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), exec);
+        have_colour = push_pull_fill(fill_view.channels(0, 3), ConstImageView::planar(wcol.data(), 1, work), ext, exec);
+        have_depth =
+            push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), ext, exec);
     }
     wgeo = {};
     // The continued coverage (continue_coverage): own alpha (plates, fading at
@@ -231,7 +232,8 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 wcover[wi] = own[wi] || seen_empty[wi] ? 1.0f : 0.0f;
             }
         }, 16);
-        if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work), exec))
+        if (!push_pull_fill(ImageView::planar(cover.data(), 1, work), ConstImageView::planar(wcover.data(), 1, work), ext,
+                            exec))
             std::fill(cover.begin(), cover.end(), 1.0f);
     }
 

@@ -17,10 +17,15 @@ std::string DepthCleanupStats::report() const {
         std::snprintf(b, sizeof b, "%.1f%%", pixels ? 100.0 * double(v) / double(pixels) : 0.0);
         return std::string(b);
     };
+    char noise_text[32];
+    std::snprintf(noise_text, sizeof noise_text, "%.2f%%", 100.0 * noise);
+    const std::string window =
+        std::to_string(2 * noise_smoothing_radius + 1) + "x" + std::to_string(2 * noise_smoothing_radius + 1);
     return "depth: " + std::to_string(holes) + " holes (" + pct(holes) + "), " + std::to_string(speckles) +
            " speckle pixels, " + std::to_string(filled) + " filled (" + std::to_string(silhouette_holes) +
            " at silhouettes by colour), " + std::to_string(mixed) +
-           " mixed silhouette pixels to the nearer surface, " + std::to_string(sky) + " sky (" + pct(sky) + ")";
+           " mixed silhouette pixels to the nearer surface, " + std::to_string(sky) + " sky (" + pct(sky) + "), noise " +
+           noise_text + (noise_smoothing_radius > 0 ? " (smoothed " + window + ")" : "");
 }
 
 Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
@@ -76,6 +81,9 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     // Silhouette pixels between two surfaces are found first: they are small
     // islands too, but not speckles.
     const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity, exec);
+    // Noise is measured on what the sensor gave (holes and speckles do not
+    // count: they are not within a surface).
+    out.stats.noise = estimate_depth_noise(out.depth, W, H, options.continuity);
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
         out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed, exec);
@@ -91,6 +99,10 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     if (any_hole)
         if (Status st = fill_holes(out.depth, W, H, make_guide(plate, exec), exec, out.stats.filled); !st)
             return st.prefix("plate depth");
+    if (options.smooth_noise && out.stats.noise > kNoisyDepth) {
+        out.stats.noise_smoothing_radius = kNoiseSmoothingRadius;
+        smooth_depth_noise(out.depth, W, H, options.continuity, kNoiseSmoothingRadius, mixed, exec);
+    }
     if (options.mixed_pixels) {
         out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec);
         if (!was_hole.empty()) {  // the colour decides only holes

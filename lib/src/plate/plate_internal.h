@@ -32,6 +32,17 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
 std::size_t remove_speckles(std::vector<float>& depth, int width, int height, double continuity, int max_px,
                             const std::vector<unsigned char>& keep, const Exec& exec = {});
 
+// The relative noise of a depth map (a standard deviation as a fraction of
+// the depth), from the second differences of inverse depth within surfaces
+// (depth_noise.cpp); 0 when too few pixels continue a surface.
+double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity);
+
+// Each finite pixel (not keep[i]) takes the inverse-depth plane fitted
+// through the pixels of its (2 radius + 1)^2 window within `continuity` of
+// it (not keep[j]), at its centre; returns how many pixels. `keep` may be empty.
+std::size_t smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,
+                               const std::vector<unsigned char>& keep, const Exec& exec = {});
+
 // Fills every NaN from its surroundings (see plate.h); returns how many. Needs
 // at least one non-NaN pixel.
 Status fill_holes(std::vector<float>& depth, int width, int height, const Guide& guide, const Exec& exec,

@@ -151,3 +151,47 @@ TEST(fill, APixelNextToKnownOnesTakesTheirValueNotAFarHighlights) {
         EXPECT_LT(v[30 * W + x], 0.005f) << "x " << x;
     }
 }
+
+TEST(fill, OnlyTheWantedPixelsAreFilledWithTheWholeFillsBits) {
+    // Scattered known pixels (partial weights) in two planes; a band of
+    // wanted pixels. Each wanted unknown pixel gets exactly the whole fill's
+    // value, every other unknown pixel keeps what it held (-1), known pixels
+    // keep theirs; a mask of the wrong size is refused.
+    const int W = 83, H = 47;
+    const std::size_t n = std::size_t(W) * H;
+    std::vector<float> v(2 * n, -1.0f), w(n, 0.0f);
+    std::vector<unsigned char> wanted(n, 0);
+    unsigned s = 7;
+    auto next = [&] { return (s = s * 1103515245u + 12345u) >> 8 & 0xffff; };
+    for (std::size_t i = 0; i < n; ++i) {
+        if (next() % 9 == 0) {
+            w[i] = 0.25f + float(next() % 4) * 0.25f;
+            v[i] = float(next() % 100);
+            v[n + i] = float(next() % 50) - 25.0f;
+        }
+        const int x = int(i % W), y = int(i / W);
+        wanted[i] = std::abs(x - 2 * y) < 9 ? 1 : 0;
+    }
+    const Roi win{0, 0, W, H};
+    std::vector<float> whole = v, part = v;
+    ASSERT_TRUE(push_pull_fill(ImageView::planar(whole.data(), 2, win), ConstImageView::planar(w.data(), 1, win)));
+    ASSERT_TRUE(push_pull_fill(ImageView::planar(part.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
+                               std::span<const unsigned char>(wanted)));
+    std::size_t filled = 0;
+    for (int c = 0; c < 2; ++c)
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t k = std::size_t(c) * n + i;
+            if (w[i] > 0.0f) {
+                EXPECT_EQ(part[k], v[k]) << "known " << i;
+            } else if (wanted[i]) {
+                EXPECT_EQ(part[k], whole[k]) << "wanted " << i;
+                ++filled;
+            } else {
+                EXPECT_EQ(part[k], -1.0f) << "not wanted " << i;
+            }
+        }
+    EXPECT_GT(filled, 500u);
+    std::vector<unsigned char> short_mask(n - 1, 1);
+    EXPECT_FALSE(push_pull_fill(ImageView::planar(part.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
+                                std::span<const unsigned char>(short_mask)));
+}

@@ -217,3 +217,74 @@ TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface)
         EXPECT_LT(f_one, 0.5 * expected) << (deep ? "deep" : "flat");
     }
 }
+
+TEST(layers_blur_cuts, ANoisySurfaceAtABlurCutSpreadsAsItsCleanDepthDoes) {
+    // A red card almost facing the camera (depth 2.00 at its left edge, 2.06
+    // at its right) over a black wall in focus (depth 6), a focal plane at 6:
+    // the card is blurred, and the split cuts it where its blur changes. A
+    // sensor's 0.5% noise puts its pixels on both sides of that cut at
+    // random; smoothed (the default cleanup) it spreads over the wall as the
+    // clean depth does.
+    constexpr int x0 = 28, x1 = 68, y0 = 16, y1 = 48;
+    auto in_card = [](int x, int y) { return x >= x0 && x < x1 && y >= y0 && y < y1; };
+    auto true_z = [&](int x, int y) { return in_card(x, y) ? 2.0 + 0.06 * (x - x0) / (x1 - x0 - 1) : 6.0; };
+    std::uint64_t s = 99;
+    auto gaussian = [&] {
+        auto u01 = [&] {
+            s = s * 6364136223846793005ull + 1442695040888963407ull;
+            return double(s >> 11) * (1.0 / 9007199254740992.0);
+        };
+        const double u = std::max(u01(), 1e-300), v = u01();
+        return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586 * v);
+    };
+    auto scene = [&](bool noisy) {
+        Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                img.at(0, x, y) = in_card(x, y) ? 1.0f : 0.0f;
+                img.at(3, x, y) = 1.0f;
+                img.at(4, x, y) = float(true_z(x, y) * (noisy ? 1.0 + 0.005 * gaussian() : 1.0));
+            }
+        ImageSet set;
+        set.parts.emplace_back(std::move(img));
+        return set;
+    };
+    auto field = BlurField::parse(R"({"blurfield": {"kind": "focal_planes", "depths": [6], "slope": 2}})");
+    ASSERT_TRUE(field) << field.message();
+    const Camera cam = test_camera(kWin);
+    // Red that left the card: over the wall above and below it.
+    auto spread = [&](const Image& out) {
+        double outside = 0.0, all = 0.0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const double r = value_at(out, 0, x, y);
+                all += r;
+                if (!in_card(x, y)) outside += r;
+            }
+        return outside / all;
+    };
+    auto run = [&](const ImageSet& in, bool smooth, int* layers) {
+        DefocusOptions ds;
+        ds.split.blur_step = 0.05;  // a cut (or more) through the card
+        ds.cleanup.smooth_noise = smooth;
+        DefocusStats st;
+        auto out = defocus(in, *field, cam, ds, &st);
+        EXPECT_TRUE(out) << out.message();
+        *layers = st.layers;
+        return out ? spread(out->flat(0)) : 0.0;
+    };
+    int n_clean = 0, n_noisy = 0, n_raw = 0;
+    const ImageSet noisy = scene(true);
+    const double clean = run(scene(false), true, &n_clean);
+    const double smoothed = run(noisy, true, &n_noisy);
+    const double raw = run(noisy, false, &n_raw);
+    std::printf("red outside the card: clean depth %.4f (%d layers), noisy smoothed %.4f (%d), noisy as measured %.4f (%d)\n",
+                clean, n_clean, smoothed, n_noisy, raw, n_raw);
+    ASSERT_GE(n_clean, 3) << "the card is cut";
+    // The card's blur is 2 px per unit of depth from 6: 7.94 px on average;
+    // vertically it spreads as a bar of 32 rows under a Gaussian of sigma r / 2.
+    const double analytic = gaussian_fraction_outside(y1 - y0, 7.94 / 2.0);
+    std::printf("analytic %.4f\n", analytic);
+    EXPECT_NEAR(clean, analytic, 0.05 * analytic);
+    EXPECT_NEAR(smoothed, clean, 0.05 * clean) << "as measured it is 10% off";
+}

@@ -216,6 +216,74 @@ TEST(plate_depth, SpecklesAcrossRowBandsAndThreadCounts) {
     EXPECT_EQ(0, std::memcmp(a->depth.data(), b->depth.data(), a->depth.size() * sizeof(float)));
 }
 
+// Gaussian numbers (Box-Muller) from the Lcg.
+double gaussian(Lcg& rng) {
+    const double u = std::max(rng.next(), 1e-300), v = rng.next();
+    return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586 * v);
+}
+
+TEST(plate_depth, SensorNoiseIsMeasuredAndSmoothedWithoutCrossingASilhouette) {
+    // The box and the ground, each pixel's depth off by 0.5% (Gaussian,
+    // relative), as a sensor measures them.
+    Lcg rng;
+    std::vector<float> noisy(std::size_t(kW) * kH);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            noisy[std::size_t(y) * kW + std::size_t(x)] = float(true_depth(x, y) * (1.0 + 0.005 * gaussian(rng)));
+    const Image img = plate([&](int x, int y) { return noisy[std::size_t(y) * kW + std::size_t(x)]; });
+    // Step 4 off: at the box's corners over the steep ground it gives a few
+    // ground pixels the box's depth (its own concern, tested above); here
+    // the smoothing alone must keep each pixel on its surface.
+    DepthCleanupOptions on;
+    on.mixed_pixels = false;
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), on);
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_NEAR(pd->stats.noise, 0.005, 0.0005) << "the noise the depth was given";
+    EXPECT_EQ(pd->stats.noise_smoothing_radius, 2);
+    EXPECT_NE(pd->stats.report().find("noise 0.5"), std::string::npos) << pd->stats.report();
+    // Squared relative error before and after; no pixel takes a depth of the
+    // other side of the box's silhouette (1.5 against 3.6-8.8 behind it).
+    double before = 0, after = 0, worst = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const double t = true_depth(x, y);
+            before += std::pow(noisy[std::size_t(y) * kW + std::size_t(x)] / t - 1.0, 2);
+            const double e = at(*pd, x, y) / t - 1.0;
+            after += e * e;
+            worst = std::max(worst, std::abs(e));
+
+        }
+    EXPECT_LT(std::sqrt(after / before), 0.35) << "a 5x5 mean leaves about 1/5 of the noise inside a surface";
+    EXPECT_LT(worst, 0.025) << "every pixel within 5 sigma of its own surface";
+    // Switched off: measured, not smoothed.
+    DepthCleanupOptions off = on;
+    off.smooth_noise = false;
+    auto raw = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), off);
+    ASSERT_TRUE(raw);
+    EXPECT_NEAR(raw->stats.noise, 0.005, 0.0005);
+    EXPECT_EQ(raw->stats.noise_smoothing_radius, 0);
+    EXPECT_FLOAT_EQ(at(*raw, 30, 100), noisy[100 * kW + 30]);
+}
+
+TEST(plate_depth, ARenderersDepthIsNotSmoothedEvenInMillimetres) {
+    // Exact float depth, and the same quantised to whole millimetres (uint16
+    // counts): no noise to speak of, so the depth is what was given.
+    for (bool mm : {false, true}) {
+        const Image img = plate([&](int x, int y) {
+            const double z = true_depth(x, y);
+            return float(mm ? std::round(z * 1000.0) / 1000.0 : z);
+        });
+        auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+        ASSERT_TRUE(pd) << pd.message();
+        EXPECT_LT(pd->stats.noise, kNoisyDepth / 2) << (mm ? "millimetres" : "float");
+        EXPECT_EQ(pd->stats.noise_smoothing_radius, 0);
+        for (int y = 0; y < kH; y += 7)
+            for (int x = 0; x < kW; x += 7)
+                if (!in_box(x - 1, y) && !in_box(x + 1, y) && !in_box(x, y - 1) && !in_box(x, y + 1))
+                    EXPECT_EQ(at(*pd, x, y), img.at(4, x, y)) << x << "," << y;
+    }
+}
+
 TEST(plate_depth, MixedSilhouettePixelsTakeTheNearerSurfacesDepth) {
     // Foreground (depth 2) left of column 80, background (6) right of it;
     // column 80 holds the renderer's mean depth of a pixel covered beta by
