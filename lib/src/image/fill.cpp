@@ -92,13 +92,17 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
                 const float* v = fplanes[std::size_t(k)];
                 float* out = c.plane(k) + std::size_t(y) * std::size_t(c.w);
                 for (int x = 0; x < c.w; ++x) {
+                    const float sum = wsum[std::size_t(x)];
+                    if (!(sum > 0.0f)) {  // nothing known below (most of a layer's frame): no reads
+                        out[x] = 0.0f;
+                        continue;
+                    }
                     const float* w = &w4[4 * std::size_t(x)];
                     const std::size_t* i = &src[4 * std::size_t(x)];
                     float acc = 0.0f;
                     // Unknown fine values may be anything (NaN): never multiplied in.
                     for (int q = 0; q < 4; ++q) acc += w[q] > 0.0f ? w[q] * v[i[q]] : 0.0f;
-                    const float sum = wsum[std::size_t(x)];
-                    out[x] = sum > 0.0f ? acc / sum : 0.0f;
+                    out[x] = acc / sum;
                 }
             }
         }

@@ -50,9 +50,14 @@ constexpr int kRim = 4;
 
 std::vector<unsigned char> coverage_rim(const std::vector<unsigned char>& own, int w, int h, const Exec& exec) {
     std::vector<unsigned char> rim(own.size());
-    for (std::size_t i = 0; i < own.size(); ++i) rim[i] = own[i] ? 0 : 1;
+    const std::size_t W = std::size_t(w);
+    parallel_for(exec, h, [&](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) rim[i] = own[i] ? 0 : 1;
+    }, 64);
     rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near an uncovered pixel
-    for (std::size_t i = 0; i < own.size(); ++i) rim[i] = own[i] && rim[i] ? 1 : 0;
+    parallel_for(exec, h, [&](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) rim[i] = own[i] && rim[i] ? 1 : 0;
+    }, 64);
     return rim;
 }
 
