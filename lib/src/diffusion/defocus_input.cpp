@@ -219,7 +219,7 @@ Status plate_radii(const BlurField& field, const Camera& camera, const PlateDept
     return field.evaluate(camera, fg, rf);
 }
 
-// A plate: its depth decoded and cleaned (holes, speckles, mixed silhouette
+// A plate: its depth decoded and cleaned (holes, speckles, noise, mixed silhouette
 // pixels, plate.h), every sample's blur at its own depth, then the slices.
 Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const BlurField& field, const Camera& camera,
                                                       const DefocusOptions& settings, const Exec& exec,
