@@ -714,6 +714,12 @@ class DepthCleanupOptions:
     def mixed_pixels(self, arg: bool, /) -> None: ...
 
     @property
+    def smooth_noise(self) -> bool: ...
+
+    @smooth_noise.setter
+    def smooth_noise(self, arg: bool, /) -> None: ...
+
+    @property
     def continuity(self) -> float: ...
 
     @continuity.setter
@@ -883,7 +889,7 @@ class DefocusStats:
 
     def report(self) -> str: ...
 
-def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, psf_field: PsfField | dict | str | None = None, psf_samples: int | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, mixed_pixels: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None) -> ImageSet:
+def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, psf_field: PsfField | dict | str | None = None, psf_samples: int | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, smooth_noise: bool | None = None, mixed_pixels: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None) -> ImageSet:
     """
     Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's (resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is --bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=).
     """
