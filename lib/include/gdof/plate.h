@@ -17,9 +17,9 @@
 //   3b. noise: where the depth's measured noise (second differences of
 //      inverse depth within surfaces, zero on any plane) is above
 //      kNoisyDepth, each pixel takes the plane fitted in inverse depth
-//      through its 5x5 neighbours that continue its surface: a noisy surface near a blur
-//      cut of the layer split would otherwise fall into two layers as
-//      speckle, each speck a silhouette of its own;
+//      through its 5x5 neighbours that continue its surface: a noisy
+//      surface near a blur cut of the layer split would otherwise fall into
+//      two layers as speckle, each speck a silhouette of its own;
 //   4. mixed pixels: a pixel whose depth lies between a nearer and a
 //      farther surface across a discontinuity (a 3x3 neighbourhood spanning
 //      `mixed_step`) takes the nearer surface's depth: part of it is the

@@ -34,19 +34,10 @@
 
 namespace gdof::plate_detail {
 
-namespace {
-
-bool continues(float a, float b, float continuity) {
-    return std::isfinite(a) && std::isfinite(b) && std::max(a, b) <= continuity * std::min(a, b);
-}
-
-}  // namespace
-
 double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity) {
-    const float c = float(continuity);
     std::vector<float> e;
-    auto triple = [&](float a, float m, float b) {
-        if (!continues(a, m, c) || !continues(b, m, c) || !(m > 0.0f)) return;
+    auto triple = [&](float a, float m, float b) {  // sky (continuous with sky) has no inverse depth to compare
+        if (!std::isfinite(m) || !(m > 0.0f) || !continuous(a, m, continuity) || !continuous(b, m, continuity)) return;
         const double ua = 1.0 / a, um = 1.0 / m, ub = 1.0 / b;
         e.push_back(float(std::abs(0.5 * (ua + ub) - um) / um));
     };
@@ -66,11 +57,9 @@ double estimate_depth_noise(const std::vector<float>& depth, int width, int heig
     return double(e[q]) * kQuartileToSigma / std::sqrt(1.5);
 }
 
-std::size_t smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,
-                               const std::vector<unsigned char>& keep, const Exec& exec) {
+void smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,
+                        const std::vector<unsigned char>& keep, const Exec& exec) {
     const std::vector<float> src = depth;
-    const float c = float(continuity);
-    std::vector<std::size_t> row_count(std::size_t(height), 0);
     parallel_for(exec, height, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < width; ++x) {
@@ -79,7 +68,9 @@ std::size_t smooth_depth_noise(std::vector<float>& depth, int width, int height,
                 if (!std::isfinite(z) || !(z > 0.0f) || (!keep.empty() && keep[i])) continue;
                 const int y0 = std::max(0, y - radius), y1 = std::min(height - 1, y + radius);
                 const int x0 = std::max(0, x - radius), x1 = std::min(width - 1, x + radius);
-                auto on_surface = [&](std::size_t j) { return (keep.empty() || !keep[j]) && continues(src[j], z, c); };
+                auto on_surface = [&](std::size_t j) {
+                    return (keep.empty() || !keep[j]) && continuous(src[j], z, continuity);
+                };
                 // A whole window: the plane's value at its centre is the mean.
                 double s1 = 0, su = 0;
                 for (int yy = y0; yy <= y1; ++yy)
@@ -105,18 +96,14 @@ std::size_t smooth_depth_noise(std::vector<float>& depth, int width, int height,
                     const double det =
                         s1 * (sxx * syy - sxy * sxy) - sx * (sx * syy - sxy * sy) + sy * (sx * sxy - sxx * sy);
                     if (s1 >= 6 && det > 1e-6 * s1 * s1 * s1) {
-                        const double a =
-                            (su * (sxx * syy - sxy * sxy) - sx * (sxu * syy - sxy * syu) + sy * (sxu * sxy - sxx * syu)) / det;
+                        const double a = (su * (sxx * syy - sxy * sxy) - sx * (sxu * syy - sxy * syu) +
+                                          sy * (sxu * sxy - sxx * syu)) / det;
                         if (a > 0.0) u = a;
                     }
                 }
                 depth[i] = float(1.0 / u);
-                ++row_count[std::size_t(y)];
             }
     }, 8);
-    std::size_t total = 0;
-    for (std::size_t v : row_count) total += v;
-    return total;
 }
 
 }  // namespace gdof::plate_detail

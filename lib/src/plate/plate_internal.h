@@ -2,6 +2,8 @@
 // plane over the plate's data window (NaN: a hole, +inf: sky). Internal.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -18,6 +20,14 @@ struct Guide {
     bool empty() const { return c[0].empty(); }
 };
 Guide make_guide(const Image& plate, const Exec& exec = {});
+
+// Two depths on one surface: within `ratio` of each other, or both sky
+// (holes continue nothing).
+inline bool continuous(float a, float b, double ratio) {
+    if (std::isnan(a) || std::isnan(b)) return false;
+    if (std::isinf(a) || std::isinf(b)) return std::isinf(a) && std::isinf(b);
+    return double(std::max(a, b)) <= double(std::min(a, b)) * ratio;
+}
 
 // Pixels sandwiched between a nearer and a farther neighbour on one line
 // (steps larger than `continuity`) whose outer neighbours on that line are
@@ -39,9 +49,9 @@ double estimate_depth_noise(const std::vector<float>& depth, int width, int heig
 
 // Each finite pixel (not keep[i]) takes the inverse-depth plane fitted
 // through the pixels of its (2 radius + 1)^2 window within `continuity` of
-// it (not keep[j]), at its centre; returns how many pixels. `keep` may be empty.
-std::size_t smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,
-                               const std::vector<unsigned char>& keep, const Exec& exec = {});
+// it (not keep[j]), at its centre. `keep` may be empty.
+void smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,
+                        const std::vector<unsigned char>& keep, const Exec& exec = {});
 
 // Fills every NaN from its surroundings (see plate.h); returns how many. Needs
 // at least one non-NaN pixel.

@@ -38,13 +38,6 @@ struct UnionFind {
     }
 };
 
-bool continuous(float a, float b, double ratio) {
-    if (std::isnan(a) || std::isnan(b)) return false;
-    if (std::isinf(a) || std::isinf(b)) return std::isinf(a) && std::isinf(b);
-    const double lo = std::min(a, b), hi = std::max(a, b);
-    return hi <= lo * ratio;
-}
-
 }  // namespace
 
 std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px,
