@@ -19,7 +19,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // The largest radius the solver will see in a radius map, computed exactly as
 // diffuse_planes does (through the float diffusivity). A frame-sized map is
 // scanned in fixed blocks in parallel (a max: the same for any thread count).
-double solver_max_radius(const std::vector<float>& radius_map, const Exec& exec) {
+double solver_max_radius(const RadiusMap& radius_map, const Exec& exec) {
     constexpr std::size_t kBlock = 1 << 16;
     const std::size_t nb = (radius_map.size() + kBlock - 1) / kBlock;
     std::vector<float> block_max(nb, 0.0f);
@@ -40,7 +40,7 @@ double solver_max_radius(const std::vector<float>& radius_map, const Exec& exec)
 }  // namespace
 
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
-                                        const std::vector<float>& radius_map, const Exec& exec) {
+                                        const RadiusMap& radius_map, const Exec& exec) {
     DiffusionOptions s = base;
     const double r_layer = radius_from_diffusivity(float(diffusivity_from_radius(layer_max_radius)));
     // Auto is decided by the whole layer's largest radius, so every tile of a
@@ -66,42 +66,53 @@ DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double laye
     return s;
 }
 
-std::vector<float> extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
-                                       const Roi& work, const Exec& exec) {
+RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
+                              const Roi& work, const Exec& exec) {
     const Image& img = layer.image;
     const Roi win = img.data_window();
-    const int W = work.width(), H = work.height();
-    std::vector<float> radius(work.npixels());
-    {
-        const Roi ext = unite(extrapolation, work);
-        const int EW = ext.width();
-        std::vector<float> full(ext.npixels(), 0.0f), weight(ext.npixels(), 0.0f);
-        const Roi known_area = intersect(win, ext);
-        parallel_for(exec, known_area.height(), [&](long r0, long r1) {
-            for (int y = known_area.y0 + int(r0); y < known_area.y0 + int(r1); ++y)
-                for (int x = known_area.x0; x < known_area.x1; ++x) {
+    const Roi ext = unite(extrapolation, work);
+    const int EW = ext.width();
+    // Weights everywhere, radii only where the weight is > 0: the fill reads
+    // no other value and writes all of them (nothing is zeroed first).
+    RadiusMap full(ext.npixels()), weight(ext.npixels());
+    parallel_for(exec, ext.height(), [&](long r0, long r1) {
+        for (int y = ext.y0 + int(r0); y < ext.y0 + int(r1); ++y) {
+            const std::size_t row = std::size_t(y - ext.y0) * std::size_t(EW);
+            const bool in_win = y >= win.y0 && y < win.y1;
+            for (int x = ext.x0; x < ext.x1; ++x) {
+                float wgt = 0.0f;
+                if (in_win && x >= win.x0 && x < win.x1) {
                     const std::size_t src = img.offset(x, y);
-                    const std::size_t dst = std::size_t(y - ext.y0) * std::size_t(EW) + std::size_t(x - ext.x0);
-                    const float wgt = known_weight(analysis, layer, src);
-                    if (wgt > 0.0f) {
-                        weight[dst] = wgt;
-                        full[dst] = analysis.radius[src];
-                    }
+                    wgt = known_weight(analysis, layer, src);
+                    if (wgt > 0.0f) full[row + std::size_t(x - ext.x0)] = analysis.radius[src];
+                    else wgt = 0.0f;
                 }
-        }, 16);
-        if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
-            // No known radius at all: use the layer's largest.
-            std::fill(full.begin(), full.end(), float(analysis.max_radius));
+                weight[row + std::size_t(x - ext.x0)] = wgt;
+            }
         }
-        const float rmax = float(analysis.max_radius);
-        parallel_for(exec, H, [&](long r0, long r1) {
-            for (int y = int(r0); y < int(r1); ++y)
-                for (int x = 0; x < W; ++x) {
-                    const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
-                    radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
-                }
-        }, 16);
+    }, 16);
+    if (!push_pull_fill(ImageView::planar(full.data(), 1, ext), ConstImageView::planar(weight.data(), 1, ext), exec)) {
+        // No known radius at all: use the layer's largest.
+        std::fill(full.begin(), full.end(), float(analysis.max_radius));
     }
+    weight = {};
+    const float rmax = float(analysis.max_radius);
+    if (ext == work) {  // the usual case (a whole render): in place
+        parallel_for(exec, ext.height(), [&](long r0, long r1) {
+            for (std::size_t i = std::size_t(r0) * std::size_t(EW); i < std::size_t(r1) * std::size_t(EW); ++i)
+                full[i] = std::clamp(full[i], 0.0f, rmax);  // guard rounding
+        }, 16);
+        return full;
+    }
+    const int W = work.width();
+    RadiusMap radius(work.npixels());  // every element set below
+    parallel_for(exec, work.height(), [&](long r0, long r1) {
+        for (int y = int(r0); y < int(r1); ++y)
+            for (int x = 0; x < W; ++x) {
+                const float r = full[std::size_t(y + work.y0 - ext.y0) * std::size_t(EW) + std::size_t(x + work.x0 - ext.x0)];
+                radius[std::size_t(y) * std::size_t(W) + std::size_t(x)] = std::clamp(r, 0.0f, rmax);  // guard rounding
+            }
+    }, 16);
     return radius;
 }
 
@@ -120,7 +131,7 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
 
     // Radii over the extrapolation region, cropped to the work region.
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<float> radius = extrapolated_radius(layer, analysis, extrapolation, work, exec);
+    RadiusMap radius = extrapolated_radius(layer, analysis, extrapolation, work, exec);
     stats.t_extrapolate += seconds_since(t0);
 
     // Colour and coverage, zero-padded.

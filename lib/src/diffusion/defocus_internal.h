@@ -47,12 +47,16 @@ struct DiffusedLayer {
     Image rgba;  // float R, G, B, A over `work`
 };
 
+// A layer's per-pixel radius map (row-major over its work region): frame-
+// sized at 4K and always written whole, so it is not zeroed first.
+using RadiusMap = std::vector<float, DefaultInitAllocator<float>>;
+
 // The solver settings used for a layer: the step count (ADI) or iteration
 // count (explicit) follows the layer's largest radius over the *whole* layer,
 // not over the (possibly cropped) radius map, so a sub-region render runs the
 // same operator as the full render.
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
-                                        const std::vector<float>& radius_map, const Exec& exec);
+                                        const RadiusMap& radius_map, const Exec& exec);
 
 // What diffuse_pyramid ran, for the --stats counts.
 struct PyramidSolve {
@@ -67,7 +71,7 @@ struct PyramidSolve {
 // from it and the layer's whole region, so sub-regions run the same operator.
 // Every pyramid level's radii are at most 6 px, so under `auto` each level
 // runs explicit: the default path solves nothing implicitly.
-Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius, double layer_max_radius,
+Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double layer_max_radius,
                        const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec,
                        PyramidSolve& how);
 
@@ -83,8 +87,8 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
 
 // The layer's radii over `work`: its known radii, extrapolated by push-pull
 // over `extrapolation` (∪ work) beyond its coverage, clamped to [0, largest].
-std::vector<float> extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
-                                       const Roi& work, const Exec& exec);
+RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
+                              const Roi& work, const Exec& exec);
 
 // Method 4 for defocus_layers: every layer made and analysed, its radii
 // extrapolated over the frame, then vibrate_layers (psf_field.h) over the

@@ -70,7 +70,7 @@ float level_of(float r, int levels) {
 // first, under-blurred cells that straddle a change of blur: +5% error on
 // the benchmark's Cornell box).
 // Only the cells of `needed` (the ones solved and read back) are computed.
-Grid build_level(const float* const planes[4], const std::vector<float>& radius, const Roi& work, int j,
+Grid build_level(const float* const planes[4], const RadiusMap& radius, const Roi& work, int j,
                  const Roi& needed, const Exec& exec) {
     const int s = 1 << j;
     Grid g(Roi{floor_div(work.x0, s), floor_div(work.y0, s), ceil_div(work.x1, s), ceil_div(work.y1, s)});
@@ -108,7 +108,7 @@ Grid build_level(const float* const planes[4], const std::vector<float>& radius,
 // For every level, the cells its pixels' blends use (pixel l uses levels
 // floor(l) and, when l is not whole, the next), grown by the reach of a
 // level blur (2c) and the B-spline footprint, within the level's window.
-std::vector<Roi> needed_cells(const std::vector<float>& lev, const Roi& work, int levels, const Exec& exec) {
+std::vector<Roi> needed_cells(const std::vector<float, DefaultInitAllocator<float>>& lev, const Roi& work, int levels, const Exec& exec) {
     // Per row and level: the span of pixels that use the level.
     const int W = work.width(), H = work.height();
     const std::size_t nl = std::size_t(levels) + 1;
@@ -168,7 +168,7 @@ Status solve_level_in_place(const ImageView& planes, const float* cell_radius, s
                             const std::vector<unsigned char>* used = nullptr) {
     const Roi& box = planes.window;
     const int W = box.width();
-    std::vector<float> radius(box.npixels());
+    RadiusMap radius(box.npixels());  // every element set below
     parallel_for(exec, box.height(), [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x)
@@ -276,11 +276,13 @@ struct LevelReturn {
             std::copy_n(level.area.data() + level.at(b.x0, Y), b.width(),
                         area.data() + std::size_t(Y - b.y0) * std::size_t(b.width()));
     }
-    // Sums over the box's columns for work row yl: the 4 colour planes times
-    // area, then the area (5 planes of the box's width).
+    // Sums over the box's columns for work row yl: per cell, the 4 colour
+    // planes times area, then the area, side by side (kRowStride floats per
+    // cell, so that a pixel's taps are whole short vectors).
+    static constexpr std::size_t kRowStride = 8;
     void vertical(int yl, std::vector<float>& row) const {
         const std::size_t BW = std::size_t(box.width()), n = box.npixels();
-        row.assign(5 * BW, 0.0f);
+        row.assign(kRowStride * BW, 0.0f);
         const Taps& t = rows[std::size_t(yl)];
         for (int k = 0; k < 4; ++k) {
             const std::size_t r = std::size_t(t.at[k]) * BW;
@@ -288,24 +290,24 @@ struct LevelReturn {
             const float* a = area.data() + r;
             for (std::size_t X = 0; X < BW; ++X) {
                 const float wa = w * a[X];
-                for (int c = 0; c < 4; ++c) row[std::size_t(c) * BW + X] += wa * (*sol)[std::size_t(c) * n + r + X];
-                row[4 * BW + X] += wa;
+                float* o = row.data() + kRowStride * X;
+                for (int c = 0; c < 4; ++c) o[c] += wa * (*sol)[std::size_t(c) * n + r + X];
+                o[4] += wa;
             }
         }
     }
     // The level's value at work column xl of that row, times wgt, added to acc.
     void horizontal(const std::vector<float>& row, int xl, float wgt, float acc[4]) const {
-        const std::size_t BW = std::size_t(box.width());
         const Taps& t = cols[std::size_t(xl)];
-        float num[4] = {0, 0, 0, 0}, den = 0.0f;
+        float sum[kRowStride] = {0, 0, 0, 0, 0, 0, 0, 0};  // 4 colours times area, the area, padding
         for (int k = 0; k < 4; ++k) {
-            const std::size_t X = std::size_t(t.at[k]);
-            for (int c = 0; c < 4; ++c) num[c] += t.w[k] * row[std::size_t(c) * BW + X];
-            den += t.w[k] * row[4 * BW + X];
+            const float* v = row.data() + kRowStride * std::size_t(t.at[k]);
+            for (std::size_t c = 0; c < kRowStride; ++c) sum[c] += t.w[k] * v[c];
         }
+        const float den = sum[4];
         if (!(den > 0.0f)) return;
         const float f = wgt / den;
-        for (int c = 0; c < 4; ++c) acc[c] += f * num[c];
+        for (int c = 0; c < 4; ++c) acc[c] += f * sum[c];
     }
 };
 
@@ -323,7 +325,7 @@ int pyramid_levels(double layer_max_radius, const Roi& layer_region) {
 
 }  // namespace
 
-Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius, double layer_max_radius,
+Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double layer_max_radius,
                        const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec,
                        PyramidSolve& how) {
     const Roi work = planes.window;
@@ -338,7 +340,7 @@ Status diffuse_pyramid(const ImageView& planes, const std::vector<float>& radius
     how.solver = choose_solver(2.0 * kLevelRadius, settings);
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
-    std::vector<float> lev(n);
+    std::vector<float, DefaultInitAllocator<float>> lev(n);  // every element set below
     parallel_for(exec, H, [&](long r0, long r1) {
         for (std::size_t i = std::size_t(r0) * std::size_t(W); i < std::size_t(r1) * std::size_t(W); ++i)
             lev[i] = level_of(radius[i], levels);

@@ -46,7 +46,7 @@ Result<Image> defocus_vibrate(const LayerSource& source, const BlurField& field,
 
     // Radii over the frame, extrapolated beyond each layer's coverage.
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<std::vector<float>> radius(static_cast<std::size_t>(nl));
+    std::vector<RadiusMap> radius(static_cast<std::size_t>(nl));
     std::vector<VibrateLayer> vl;
     for (int i = 0; i < nl; ++i) {
         const LayerAnalysis& a = an[std::size_t(i)];

@@ -212,8 +212,14 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
                        const DiffusionOptions& settings, const Exec& exec) {
     const int W = width, H = height;
     const std::size_t n = std::size_t(W) * std::size_t(H);
+    std::vector<float> row_max(std::size_t(H), 0.0f);  // rows in parallel: a max, the same for any split
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            row_max[std::size_t(y)] = *std::max_element(diffusivity + std::size_t(y) * std::size_t(W),
+                                                        diffusivity + std::size_t(y + 1) * std::size_t(W));
+    }, 16);
     float dmax = 0.0f;
-    for (std::size_t i = 0; i < n; ++i) dmax = std::max(dmax, diffusivity[i]);
+    for (float m : row_max) dmax = std::max(dmax, m);
     // iterations from the largest blur: dt * dmax * 10/3 <= 1 / safety
     const double rmax = radius_from_diffusivity(dmax);
     const int iters = explicit_iterations(rmax, settings);
@@ -221,7 +227,9 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
 
     // Ping-pong between the caller's planes and one set of buffers.
     const int nc = int(planes.size());
-    std::vector<float> next(std::size_t(nc) * n);
+    // Every row of every plane is written by the first pass (no zeroing first:
+    // 4 frame-sized planes at 4K, on one thread).
+    std::vector<float, DefaultInitAllocator<float>> next(std::size_t(nc) * n);
     std::vector<float*> cur(planes.begin(), planes.end()), nxt(static_cast<std::size_t>(nc));
     for (int c = 0; c < nc; ++c) nxt[std::size_t(c)] = next.data() + std::size_t(c) * n;
     const long nbands = (H + kBandRows - 1) / kBandRows;

@@ -57,22 +57,44 @@ Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, con
         return Status::error("diffusion: explicit_safety must be in 1..100");
     const RowMajorPlanes<const float> radius_plane(radius);
     const float* rp = radius_plane.plane(0);
-    std::vector<float> d(n);
-    bool any = false;
-    float dmax = 0.0f;
-    for (std::size_t i = 0; i < n; ++i) {
-        float r = rp[i];
-        if (!std::isfinite(r) || r < 0.0f || r > settings.max_radius) {
-            int x = int(i % std::size_t(width)), y = int(i / std::size_t(width));
+    // Rows in parallel (a frame-sized map at 4K), each with its largest
+    // diffusivity and first bad pixel; the first bad pixel of all is reported.
+    const int height = win.height();
+    std::vector<float, DefaultInitAllocator<float>> d(n);  // every element set below
+    std::vector<float> row_dmax(std::size_t(height), 0.0f);
+    std::vector<std::size_t> row_bad(std::size_t(height), n);
+    std::vector<unsigned char> row_any(std::size_t(height), 0);
+    const auto valid = [&](float r) { return std::isfinite(r) && r >= 0.0f && r <= settings.max_radius; };
+    const bool done = parallel_for(exec, height, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y) {
+            float dm = 0.0f;
+            bool any_row = false;
+            for (std::size_t i = std::size_t(y) * std::size_t(width); i < std::size_t(y + 1) * std::size_t(width); ++i) {
+                const float r = rp[i];
+                if (!valid(r)) {
+                    row_bad[std::size_t(y)] = i;
+                    break;
+                }
+                d[i] = float(diffusivity_from_radius(r));
+                dm = std::max(dm, d[i]);
+                any_row = any_row || r > 0.0f;
+            }
+            row_dmax[std::size_t(y)] = dm;
+            row_any[std::size_t(y)] = any_row;
+        }
+    }, 16);
+    if (!done) return Status::cancelled("diffusion");
+    for (std::size_t i : row_bad)
+        if (i < n) {
+            const float r = rp[i];
+            const int x = int(i % std::size_t(width)), y = int(i / std::size_t(width));
             return Status::error("diffusion: blur radius at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                  " of the layer) is " + std::to_string(r) + "; expected a finite value in 0.." +
                                  std::to_string(settings.max_radius));
         }
-        d[i] = float(diffusivity_from_radius(r));
-        dmax = std::max(dmax, d[i]);
-        any = any || r > 0.0f;
-    }
-    if (!any) return Status::ok();  // identity, bit for bit
+    const float dmax = *std::max_element(row_dmax.begin(), row_dmax.end());
+    if (std::none_of(row_any.begin(), row_any.end(), [](unsigned char v) { return v != 0; }))
+        return Status::ok();  // identity, bit for bit
     const DiffusionSolver solver = choose_solver(radius_from_diffusivity(dmax), settings);
     const ConstImageView diffusivity = ConstImageView::planar(d.data(), 1, win);
     return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, diffusivity, settings, exec)

@@ -114,7 +114,8 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
 // with the bilinear upsampling of the (filled) coarser level `c` by
 // (1 - weight). Level 0 (`unknown_only`) writes only its unknown pixels
 // (weight 0 or NaN), straight into the caller's planes: known pixels keep
-// their bits; with `wanted` (row-major, non-empty) only those it marks.
+// their bits. With `wanted` (row-major, non-empty) only the pixels it marks
+// are pulled (the others keep their pushed values, never read).
 void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<float* const> out, const Level& c,
           std::span<const unsigned char> wanted, const Exec& exec) {
     const std::vector<Tap> tx = taps(fw, c.w), ty = taps(fh, c.h);
@@ -127,11 +128,14 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
             const Tap& vy = ty[std::size_t(yl)];
             const std::size_t ra = std::size_t(vy.a) * std::size_t(c.w), rb = std::size_t(vy.b) * std::size_t(c.w);
             const std::size_t row = std::size_t(yl) * std::size_t(fw);
+            if (!wanted.empty() && std::none_of(wanted.begin() + std::ptrdiff_t(row), wanted.begin() + std::ptrdiff_t(row + std::size_t(fw)),
+                                                [](unsigned char v) { return v != 0; }))
+                continue;
             bool any = false;
             for (int x = 0; x < fw; ++x) {
                 const float fwt = fweight[row + std::size_t(x)];
                 const bool skip = !wanted.empty() && !wanted[row + std::size_t(x)];
-                const float wx = unknown_only ? (fwt > 0.0f || skip ? 1.0f : 0.0f) : fwt;
+                const float wx = skip ? 1.0f : unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
                 w[std::size_t(x)] = wx;
                 if (wx >= 1.0f) continue;
                 any = true;
@@ -168,6 +172,34 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
     }, 16);
 }
 
+// The pixels of coarse level `c` that pull() reads for the fine level's
+// pixels marked in `pulled` whose weight is below 1 (unknown only: not > 0):
+// the four taps of each, whatever their bilinear weights, so every value
+// read is the one a whole pull computes. Coarse row Y is read only by fine
+// rows whose taps are Y, so each coarse row is marked by one task.
+std::vector<unsigned char> taps_read(int fw, int fh, const float* fweight, bool unknown_only,
+                                     std::span<const unsigned char> pulled, const Level& c, const Exec& exec) {
+    const std::vector<Tap> tx = taps(fw, c.w), ty = taps(fh, c.h);
+    std::vector<unsigned char> out(std::size_t(c.w) * std::size_t(c.h), 0);
+    parallel_for(exec, c.h, [&](long Y0, long Y1) {
+        for (long Y = Y0; Y < Y1; ++Y) {
+            unsigned char* o = out.data() + std::size_t(Y) * std::size_t(c.w);
+            // Fine rows around 2Y + 0.5 are the only ones with a tap on Y.
+            for (int y = std::max(0, int(2 * Y) - 2); y < std::min(fh, int(2 * Y) + 4); ++y) {
+                if (ty[std::size_t(y)].a != int(Y) && ty[std::size_t(y)].b != int(Y)) continue;
+                const std::size_t row = std::size_t(y) * std::size_t(fw);
+                for (int x = 0; x < fw; ++x) {
+                    if (!pulled[row + std::size_t(x)]) continue;
+                    const float fwt = fweight[row + std::size_t(x)];
+                    if (unknown_only ? fwt > 0.0f : fwt >= 1.0f) continue;
+                    o[tx[std::size_t(x)].a] = o[tx[std::size_t(x)].b] = 1;
+                }
+            }
+        }
+    }, 16);
+    return out;
+}
+
 // The fill on row-major planes of width x height (push_pull_fill's contract).
 // Rows of a level are independent in both passes, so they run in parallel
 // and the result is the same for any thread count. Level 0 is read and
@@ -194,12 +226,23 @@ bool push_pull(std::span<float* const> planes, const float* weight, int width, i
         Level c = push(f.w, f.h, f.weight.data(), fine, false, exec);
         levels.push_back(std::move(c));
     }
+    // With `wanted`: the coarse pixels each level's pulled pixels read, level
+    // by level (coarse level li + 1 of `needed` is levels[li]).
+    std::vector<std::vector<unsigned char>> needed;
+    if (!wanted.empty()) {
+        needed.push_back(taps_read(width, height, weight, true, wanted, levels[0], exec));
+        for (std::size_t li = 0; li + 1 < levels.size(); ++li)
+            needed.push_back(taps_read(levels[li].w, levels[li].h, levels[li].weight.data(), false, needed[li],
+                                       levels[li + 1], exec));
+    }
     // Pull: from the top, each level blended with the upsampled level above.
     std::vector<float*> ptrs(static_cast<std::size_t>(nc));
     for (int li = int(levels.size()) - 2; li >= 0; --li) {
         Level& f = levels[std::size_t(li)];
         for (int k = 0; k < nc; ++k) ptrs[std::size_t(k)] = f.plane(k);
-        pull(f.w, f.h, f.weight.data(), false, ptrs, levels[std::size_t(li) + 1], {}, exec);
+        pull(f.w, f.h, f.weight.data(), false, ptrs, levels[std::size_t(li) + 1],
+             needed.empty() ? std::span<const unsigned char>{} : std::span<const unsigned char>(needed[std::size_t(li)]),
+             exec);
     }
     // Level 0: only the unknown pixels (that are wanted), from the first coarse level.
     pull(width, height, weight, true, planes, levels[0], wanted, exec);

@@ -153,17 +153,19 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
     int behind = -1;  // the farthest non-empty slice behind k
     for (int k = nslices - 1; k >= 0; --k) {
         const int fallback = bounded ? behind : -1;
-        parallel_for(exec, H, [&](long y0, long y1) {
-            for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
-                if (front(i) == k) {
-                    // Beyond every slice's bound the farthest fills (the
-                    // extension's farthest_fills_frame): any owner >= 0 says so.
-                    const bool near = best_k[i] >= 0;
-                    out.owner[i] = near ? best_k[i] : fallback;
-                    out.distance[i] = near ? best[i] : kInf;
-                }
+        const Roi& own = box[std::size_t(k)];  // every pixel whose front is k
+        parallel_for(exec, own.height(), [&](long r0, long r1) {
+            for (int y = own.y0 + int(r0); y < own.y0 + int(r1); ++y)
+                for (std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(own.x0);
+                     i < std::size_t(y) * std::size_t(W) + std::size_t(own.x1); ++i)
+                    if (front(i) == k) {
+                        // Beyond every slice's bound the farthest fills (the
+                        // extension's farthest_fills_frame): any owner >= 0 says so.
+                        const bool near = best_k[i] >= 0;
+                        out.owner[i] = near ? best_k[i] : fallback;
+                        out.distance[i] = near ? best[i] : kInf;
+                    }
         }, 16);
-        const Roi& own = box[std::size_t(k)];
         if (k == 0 || own.empty()) continue;
         if (behind < 0) behind = k;
         // The distances to slice k over its box grown by the bound (all of

@@ -164,8 +164,9 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     const Image& src = L.image;
     const bool has_p = src.nchannels() >= 8;
     const int nfill = has_p ? 7 : 4;  // r, g, b, Z (, P.x, P.y, P.z)
-    // Frame-sized at 4K: set in the parallel loop below (zero where the layer
-    // has nothing), not zeroed on one thread first.
+    // Frame-sized at 4K and left unset where the weight is 0: the fill reads
+    // values only where the weight is > 0 and writes the wanted unknown ones,
+    // the only ones read after it. The weights are set in the loop below.
     using Buffer = std::vector<float, DefaultInitAllocator<float>>;
     Buffer fill_planes(std::size_t(nfill) * wn);  // back to back over `work`
     std::array<float*, 7> fill{};
@@ -179,7 +180,6 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 const int ax = work.x0 + x, ay = work.y0 + y;
                 const std::size_t wi = std::size_t(y) * ww + x;
                 wcol[wi] = wgeo[wi] = 0.0f;
-                for (int c = 0; c < nfill; ++c) fill[std::size_t(c)][wi] = 0.0f;
                 if (!rim[wi] || !(alpha[wi] > 0.0f)) continue;
                 const float al = alpha[wi];
                 wcol[wi] = al;
