@@ -7,6 +7,7 @@
 
 #include "gdof/bokeh.h"
 #include "gdof/defocus.h"
+#include "image/frame_buffer.h"
 
 namespace gdof::defocus_detail {
 
@@ -49,7 +50,7 @@ struct DiffusedLayer {
 
 // A layer's per-pixel radius map (row-major over its work region): frame-
 // sized at 4K and always written whole, so it is not zeroed first.
-using RadiusMap = std::vector<float, DefaultInitAllocator<float>>;
+using RadiusMap = FrameBuffer<float>;
 
 // The solver settings used for a layer: the step count (ADI) or iteration
 // count (explicit) follows the layer's largest radius over the *whole* layer,

@@ -108,7 +108,7 @@ Grid build_level(const float* const planes[4], const RadiusMap& radius, const Ro
 // For every level, the cells its pixels' blends use (pixel l uses levels
 // floor(l) and, when l is not whole, the next), grown by the reach of a
 // level blur (2c) and the B-spline footprint, within the level's window.
-std::vector<Roi> needed_cells(const std::vector<float, DefaultInitAllocator<float>>& lev, const Roi& work, int levels, const Exec& exec) {
+std::vector<Roi> needed_cells(const FrameBuffer<float>& lev, const Roi& work, int levels, const Exec& exec) {
     // Per row and level: the span of pixels that use the level.
     const int W = work.width(), H = work.height();
     const std::size_t nl = std::size_t(levels) + 1;
@@ -340,7 +340,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
     how.solver = choose_solver(2.0 * kLevelRadius, settings);
     const int W = work.width(), H = work.height();
     const std::size_t n = work.npixels();
-    std::vector<float, DefaultInitAllocator<float>> lev(n);  // every element set below
+    FrameBuffer<float> lev(n);  // every element set below
     parallel_for(exec, H, [&](long r0, long r1) {
         for (std::size_t i = std::size_t(r0) * std::size_t(W); i < std::size_t(r1) * std::size_t(W); ++i)
             lev[i] = level_of(radius[i], levels);

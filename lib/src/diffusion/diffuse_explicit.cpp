@@ -10,6 +10,7 @@
 #include "common/flush_denormals.h"
 #include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
+#include "image/frame_buffer.h"
 
 namespace gdof {
 
@@ -229,7 +230,7 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
     const int nc = int(planes.size());
     // Every row of every plane is written by the first pass (no zeroing first:
     // 4 frame-sized planes at 4K, on one thread).
-    std::vector<float, DefaultInitAllocator<float>> next(std::size_t(nc) * n);
+    FrameBuffer<float> next(std::size_t(nc) * n);
     std::vector<float*> cur(planes.begin(), planes.end()), nxt(static_cast<std::size_t>(nc));
     for (int c = 0; c < nc; ++c) nxt[std::size_t(c)] = next.data() + std::size_t(c) * n;
     const long nbands = (H + kBandRows - 1) / kBandRows;

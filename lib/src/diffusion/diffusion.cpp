@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "image/frame_buffer.h"
 #include "image/row_major_planes.h"
 #include "image/view_shape.h"
 
@@ -60,7 +61,7 @@ Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, con
     // Rows in parallel (a frame-sized map at 4K), each with its largest
     // diffusivity and first bad pixel; the first bad pixel of all is reported.
     const int height = win.height();
-    std::vector<float, DefaultInitAllocator<float>> d(n);  // every element set below
+    FrameBuffer<float> d(n);  // every element set below
     std::vector<float> row_dmax(std::size_t(height), 0.0f);
     std::vector<std::size_t> row_bad(std::size_t(height), n);
     std::vector<unsigned char> row_any(std::size_t(height), 0);

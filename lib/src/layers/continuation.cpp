@@ -24,7 +24,7 @@ constexpr double kRecede = 0.002;
 }  // namespace
 
 Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned char>& present,
-                     const std::vector<int>& slice, const std::vector<int>& owner, int s, int W, int H, const Roi& win,
+                     const std::vector<int>& slice, std::span<const int> owner, int s, int W, int H, const Roi& win,
                      double continuity, int reach, std::vector<unsigned char>& cont) {
     const std::size_t n = depth.size();
     cont.assign(n, 0);
@@ -101,11 +101,12 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
     BackgroundOwners out;
-    out.owner.assign(n, -1);
-    out.distance.assign(n, kInf);
-    std::vector<int> best_k(n, -1);
-    std::vector<float> best, dist;
-    std::vector<unsigned char> mask;
+    parallel_assign(out.owner, n, -1, std::size_t(W), exec);
+    parallel_assign(out.distance, n, kInf, std::size_t(W), exec);
+    FrameBuffer<int> best_k;
+    parallel_assign(best_k, n, -1, std::size_t(W), exec);
+    FrameBuffer<float> best, dist;
+    FrameBuffer<unsigned char> mask;  // every element written before each use
     // Each slice's box (its own pixels, where slice or fg_slice is k), and
     // whether anything is empty, in one pass over bands of rows.
     const int nbands = std::max(1, std::min(H, 64));
@@ -138,14 +139,14 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
     const int grow = bounded ? int(std::ceil(std::max(0.0, bound))) + 1 : 0;
     const Roi frame{0, 0, W, H};
     if (any_empty) {
-        mask.assign(n, 0);
+        mask.resize(n);
         parallel_for(exec, H, [&](long y0, long y1) {
             for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
                 mask[i] = slice[i] < 0;
         }, 16);
         distance_transform(mask, W, H, best, exec);
     } else {
-        best.assign(n, kInf);
+        parallel_assign(best, n, kInf, std::size_t(W), exec);
     }
     // Back to front: before slice k's distances join, `best` holds the
     // nearest of the slices behind k, which is what k's pixels need. The
@@ -172,7 +173,7 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
         // the frame when unbounded): exact there, beyond the bound outside.
         const Roi win = bounded ? intersect(own.grown(grow), frame) : frame;
         const int ww = win.width(), wh = win.height();
-        mask.assign(win.npixels(), 0);
+        mask.resize(win.npixels());
         parallel_for(exec, wh, [&](long r0, long r1) {
             for (long r = r0; r < r1; ++r) {
                 const std::size_t src = std::size_t(win.y0 + r) * std::size_t(W) + std::size_t(win.x0);

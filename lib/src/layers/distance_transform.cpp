@@ -76,15 +76,15 @@ struct RowPass {
 
 }  // namespace
 
-void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out,
+void distance_transform(std::span<const unsigned char> mask, int width, int height, FrameBuffer<float>& out,
                         const Exec& exec) {
     const std::size_t n = std::size_t(width) * std::size_t(height);
     const std::size_t W = std::size_t(width);
-    out.assign(n, 0.0f);
+    out.resize(n);  // every element written by the row pass
     if (n == 0) return;
     // Column pass, in blocks of columns: vertical distances row by row,
-    // down then up, then squared.
-    std::vector<std::int32_t> g(n);
+    // down then up, then squared (every element written).
+    FrameBuffer<std::int32_t> g(n);
     constexpr long kCols = 256;
     parallel_for(exec, (long(W) + kCols - 1) / kCols, [&](long b0, long b1) {
         const std::size_t xa = std::size_t(b0 * kCols), xb = std::min(W, std::size_t(b1 * kCols));

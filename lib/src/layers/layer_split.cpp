@@ -260,26 +260,62 @@ DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float
 
 }  // namespace
 
-DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius) {
-    double zmin = kInf, zmax = 0.0;
-    bool any_inf = false;
+DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius,
+                          const Exec& exec) {
     const bool is_auto = split.mode == LayerSplit::Mode::Auto;
     const bool with_radius = is_auto && radius.size() == depths.size() && !depths.empty();
+    // Blocks in parallel: each its range, whether it saw +inf and how many
+    // positive finite depths it holds; then (auto) their logs and radii
+    // written at each block's offset, in the samples' order.
+    constexpr std::size_t kBlock = 1 << 16;
+    const std::size_t nb = (depths.size() + kBlock - 1) / kBlock;
+    struct Block {
+        double zmin = kInf, zmax = 0.0;
+        bool any_inf = false;
+        std::size_t finite = 0;
+    };
+    std::vector<Block> blocks(nb);
+    auto finite_positive = [](float z) { return z > 0.0f && std::isfinite(z); };
+    parallel_for(exec, long(nb), [&](long b0, long b1) {
+        for (long b = b0; b < b1; ++b) {
+            Block& k = blocks[std::size_t(b)];
+            for (std::size_t i = std::size_t(b) * kBlock; i < std::min(depths.size(), std::size_t(b + 1) * kBlock); ++i) {
+                const float z = depths[i];
+                if (z == float(kInf)) k.any_inf = true;
+                if (!finite_positive(z)) continue;
+                k.zmin = std::min(k.zmin, double(z));
+                k.zmax = std::max(k.zmax, double(z));
+                ++k.finite;
+            }
+        }
+    });
+    double zmin = kInf, zmax = 0.0;
+    bool any_inf = false;
+    std::size_t total = 0;
+    std::vector<std::size_t> offset(nb);
+    for (std::size_t b = 0; b < nb; ++b) {
+        zmin = std::min(zmin, blocks[b].zmin);
+        zmax = std::max(zmax, blocks[b].zmax);
+        any_inf = any_inf || blocks[b].any_inf;
+        offset[b] = total;
+        total += blocks[b].finite;
+    }
     std::vector<double> logs;
     std::vector<float> radii;
-    if (is_auto) logs.reserve(depths.size());
-    if (with_radius) radii.reserve(depths.size());
-    for (std::size_t i = 0; i < depths.size(); ++i) {
-        const float z = depths[i];
-        if (z == float(kInf)) {
-            any_inf = true;
-            continue;
-        }
-        if (!(z > 0.0f) || !std::isfinite(z)) continue;
-        zmin = std::min(zmin, double(z));
-        zmax = std::max(zmax, double(z));
-        if (is_auto) logs.push_back(std::log(double(z)));
-        if (with_radius) radii.push_back(radius[i]);
+    if (is_auto) {
+        logs.resize(total);
+        if (with_radius) radii.resize(total);
+        parallel_for(exec, long(nb), [&](long b0, long b1) {
+            for (long b = b0; b < b1; ++b) {
+                std::size_t o = offset[std::size_t(b)];
+                for (std::size_t i = std::size_t(b) * kBlock; i < std::min(depths.size(), std::size_t(b + 1) * kBlock); ++i) {
+                    if (!finite_positive(depths[i])) continue;
+                    logs[o] = std::log(double(depths[i]));
+                    if (with_radius) radii[o] = radius[i];
+                    ++o;
+                }
+            }
+        });
     }
     if (zmin == kInf) {  // no positive finite depth: one slice (Count: all in the first)
         DepthSlices s;

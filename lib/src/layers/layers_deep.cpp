@@ -165,14 +165,19 @@ Result<SampleLayers> layers_by_id(const DeepImage& deep, const float* z, const s
 }
 
 // Depth slices (Auto or Count) of the sample depths.
-SampleLayers layers_by_depth(std::span<const float> z, const LayerSplit& split, std::span<const float> sample_radius) {
-    const DepthSlices slices = choose_slices(z, split, sample_radius);
+SampleLayers layers_by_depth(std::span<const float> z, const LayerSplit& split, std::span<const float> sample_radius,
+                             const Exec& exec) {
+    const DepthSlices slices = choose_slices(z, split, sample_radius, exec);
     SampleLayers sl;
     sl.count = slices.count();
     sl.slice_lo = slices.lo;
     sl.slice_hi = slices.hi;
     sl.layer_of.resize(z.size());
-    for (std::size_t k = 0; k < z.size(); ++k) sl.layer_of[k] = slices.slice_of(z[k]);
+    constexpr long kBlock = 1 << 16;
+    parallel_for(exec, long((z.size() + kBlock - 1) / kBlock), [&](long b0, long b1) {
+        for (std::size_t k = std::size_t(b0 * kBlock); k < std::min(z.size(), std::size_t(b1 * kBlock)); ++k)
+            sl.layer_of[k] = slices.slice_of(z[k]);
+    });
     return sl;
 }
 
@@ -307,7 +312,7 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
                              std::to_string(nsamples) + " samples");
     Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
                                   ? layers_by_id(deep, z, split.id_channel)
-                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius));
+                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec));
     if (!sl) return sl.status();
     D->sl_ = std::move(sl).value();
     D->ext_ = layer_extents(deep, z, D->sl_, exec);

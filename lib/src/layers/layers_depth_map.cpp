@@ -33,18 +33,26 @@ struct PlateSamples {
 };
 
 Status plate_samples(const Image& img, const SliceOptions& o, const float* r, const float* g, const float* b,
-                     const float* a, PlateSamples& s) {
+                     const float* a, PlateSamples& s, const Exec& exec) {
     const std::size_t n = img.npixels();
-    s.present.assign(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
-        s.present[i] = (!a || a[i] > 0.0f || r[i] != 0.0f || g[i] != 0.0f || b[i] != 0.0f) ? 1 : 0;
+    const std::size_t W = std::size_t(std::max(1, img.data_window().width()));
+    const long rows = long((n + W - 1) / W);
+    s.present.resize(n);
+    parallel_for(exec, rows, [&](long y0, long y1) {
+        for (std::size_t i = std::size_t(y0) * W; i < std::min(n, std::size_t(y1) * W); ++i)
+            s.present[i] = (!a || a[i] > 0.0f || r[i] != 0.0f || g[i] != 0.0f || b[i] != 0.0f) ? 1 : 0;
+    }, 16);
     if (o.depth) {
         if (!(o.depth->window == img.data_window()) || o.depth->depth.size() != n)
             return Status::error("depth-map layers: the prepared depth covers " + to_string(o.depth->window) +
                                  ", the image " + to_string(img.data_window()));
-        s.depth = o.depth->depth;
-        for (float& d : s.depth)
-            if (!std::isfinite(d)) d = float(kInf);
+        s.depth.resize(n);
+        parallel_for(exec, rows, [&](long y0, long y1) {
+            for (std::size_t i = std::size_t(y0) * W; i < std::min(n, std::size_t(y1) * W); ++i) {
+                const float d = o.depth->depth[i];
+                s.depth[i] = std::isfinite(d) ? d : float(kInf);
+            }
+        }, 16);
         if (o.depth->has_mixed()) {
             s.parts = &o.depth->mixed;
             s.mixed.assign(n, -1);
@@ -106,8 +114,8 @@ private:
     std::vector<Roi> box_;               // per slice: its own pixels
     Roi frame_;                          // their union (extensions stay inside)
     std::vector<double> znear_, zfar_;
-    std::vector<int> owner_;
-    std::vector<float> owner_distance_;
+    FrameBuffer<int> owner_;
+    FrameBuffer<float> owner_distance_;
     ExtensionPlan plan_;
     ExtendOptions extend_;
 };
@@ -164,7 +172,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     L->b_ = img.plane(ix.b);
     L->a_ = ix.a >= 0 ? img.plane(ix.a) : nullptr;
     PlateSamples& ps = L->ps_;
-    if (Status st = plate_samples(img, options, L->r_, L->g_, L->b_, L->a_, ps); !st) return st;
+    if (Status st = plate_samples(img, options, L->r_, L->g_, L->b_, L->a_, ps, exec); !st) return st;
     if (ps.parts) {  // keep our own copy: the prepared depth need not outlive the source
         L->mixed_parts_ = *ps.parts;
         ps.parts = &L->mixed_parts_;
@@ -179,20 +187,42 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
 
     // Slices over every sample.
     std::vector<float> sample_depths, sample_radii;
-    sample_depths.reserve(n);
     const bool radii = !options.radius.empty();
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!ps.present[i]) continue;
-        sample_depths.push_back(ps.depth[i]);
-        if (radii) sample_radii.push_back(options.radius[i]);
-        if (const MixedPixel* m = ps.mixed_at(i)) {
-            sample_depths.push_back(m->fg_depth);
-            if (radii)
-                sample_radii.push_back(options.fg_radius.empty() ? options.radius[i]
-                                                                 : options.fg_radius[std::size_t(ps.mixed[i])]);
-        }
+    {
+        // Rows in parallel: each row's sample count, then its samples at
+        // its offset (the order of a serial pass).
+        std::vector<std::size_t> row_start(std::size_t(H) + 1, 0);
+        parallel_for(exec, H, [&](long y0, long y1) {
+            for (long y = y0; y < y1; ++y) {
+                std::size_t c = 0;
+                for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i)
+                    if (ps.present[i]) c += ps.mixed_at(i) ? 2 : 1;
+                row_start[std::size_t(y) + 1] = c;
+            }
+        }, 16);
+        for (std::size_t y = 0; y < std::size_t(H); ++y) row_start[y + 1] += row_start[y];
+        sample_depths.resize(row_start.back());
+        if (radii) sample_radii.resize(row_start.back());
+        parallel_for(exec, H, [&](long y0, long y1) {
+            for (long y = y0; y < y1; ++y) {
+                std::size_t o = row_start[std::size_t(y)];
+                for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i) {
+                    if (!ps.present[i]) continue;
+                    sample_depths[o] = ps.depth[i];
+                    if (radii) sample_radii[o] = options.radius[i];
+                    ++o;
+                    if (const MixedPixel* m = ps.mixed_at(i)) {
+                        sample_depths[o] = m->fg_depth;
+                        if (radii)
+                            sample_radii[o] = options.fg_radius.empty() ? options.radius[i]
+                                                                        : options.fg_radius[std::size_t(ps.mixed[i])];
+                        ++o;
+                    }
+                }
+            }
+        }, 16);
     }
-    L->slices_ = choose_slices(sample_depths, options.split, sample_radii);
+    L->slices_ = choose_slices(sample_depths, options.split, sample_radii, exec);
     sample_depths = {};
     sample_radii = {};
     const int ns = L->slices_.count();

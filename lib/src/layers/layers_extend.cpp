@@ -126,7 +126,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // Distance to the layer's own coverage (not needed where the owners'
     // distances are given, nor when the layer fills the frame).
     const bool with_owner_distance = !opt.owner.empty() && !opt.owner_distance.empty();
-    std::vector<float> dist;
+    FrameBuffer<float> dist;
     if (!fills_frame && !with_owner_distance) distance_transform(own, ww, wh, dist, exec);
     std::vector<unsigned char> ext(wn, 0), seen_empty(wn, 0);
     // Rows marked in parallel, each with its own span of extension; the
@@ -167,7 +167,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // Frame-sized at 4K and left unset where the weight is 0: the fill reads
     // values only where the weight is > 0 and writes the wanted unknown ones,
     // the only ones read after it. The weights are set in the loop below.
-    using Buffer = std::vector<float, DefaultInitAllocator<float>>;
+    using Buffer = FrameBuffer<float>;
     Buffer fill_planes(std::size_t(nfill) * wn);  // back to back over `work`
     std::array<float*, 7> fill{};
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "image/frame_buffer.h"
 #include "gdof/layers.h"
 
 namespace gdof::layers_detail {
@@ -44,14 +45,15 @@ constexpr double kAutoBlurLayers = 4.0;
 // Slices for Auto / Count from the sample depths (NaN must be filtered out
 // by the caller; +inf and <= 0 are allowed and ignored when choosing).
 // `radius`: empty, or one blur radius per depth (Auto's blur cuts).
-DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius = {});
+DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius = {},
+                          const Exec& exec = {});
 
 // The pixels of nearer slices (slice[j] < s, owner[j] == s) that continue
 // slice s's surface (layers_from_depth_map): cont[j] = 1 for each, sized like
 // depth; returns their bounding box (absolute coordinates, `win` the
 // image's window).
 Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned char>& present,
-                     const std::vector<int>& slice, const std::vector<int>& owner, int s, int width, int height,
+                     const std::vector<int>& slice, std::span<const int> owner, int s, int width, int height,
                      const Roi& win, double continuity, int reach, std::vector<unsigned char>& cont);
 
 // Which slice continues or extends behind each pixel: among the slices behind
@@ -66,8 +68,8 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 // distances are those of the unbounded call wherever the distance is within
 // the bound, and the owner is >= 0 exactly where it is.
 struct BackgroundOwners {
-    std::vector<int> owner;
-    std::vector<float> distance;
+    FrameBuffer<int> owner;
+    FrameBuffer<float> distance;
 };
 BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
                                    int width, int height, const Exec& exec = {},
@@ -106,7 +108,7 @@ double median_finite(std::vector<float> values);
 
 // Exact Euclidean distance transform: out[i] = distance from pixel i to the
 // nearest pixel with mask != 0 (+inf if none). Row-major width x height.
-void distance_transform(const std::vector<unsigned char>& mask, int width, int height, std::vector<float>& out,
+void distance_transform(std::span<const unsigned char> mask, int width, int height, FrameBuffer<float>& out,
                         const Exec& exec = {});
 
 }  // namespace gdof::layers_detail

@@ -29,32 +29,81 @@
 // two sides of a silhouette never mix.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "plate/plate_internal.h"
 
 namespace gdof::plate_detail {
 
-double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity) {
-    std::vector<float> e;
-    auto triple = [&](float a, float m, float b) {  // sky (continuous with sky) has no inverse depth to compare
-        if (!std::isfinite(m) || !(m > 0.0f) || !continuous(a, m, continuity) || !continuous(b, m, continuity)) return;
-        const double ua = 1.0 / a, um = 1.0 / m, ub = 1.0 / b;
-        e.push_back(float(std::abs(0.5 * (ua + ub) - um) / um));
+namespace {
+
+// The k-th smallest (0-based) of non-negative floats, exactly, as
+// nth_element would give it: non-negative floats order as their bit patterns,
+// so a parallel histogram of the top 16 bits finds the bucket that holds
+// rank k, and only that bucket's values are sorted.
+float kth_smallest(const std::vector<std::vector<float>>& parts, std::size_t k, const Exec& exec) {
+    constexpr std::size_t kBuckets = 1 << 16;
+    auto bucket = [](float v) {
+        std::uint32_t b;
+        std::memcpy(&b, &v, sizeof b);
+        return std::size_t(b >> 16);
     };
-    // Every fourth row (and its columns at those rows): plenty of samples at
-    // any size, a fraction of a pass over the map.
-    for (int y = 1; y + 1 < height; y += 4) {
-        const float* row = depth.data() + std::size_t(y) * std::size_t(width);
-        for (int x = 1; x + 1 < width; ++x) {
-            triple(row[x - 1], row[x], row[x + 1]);
-            triple(row[x - width], row[x], row[x + width]);
+    // A few groups of parts, one histogram each (counts: any order).
+    constexpr std::size_t kGroups = 8;
+    const std::size_t per = (parts.size() + kGroups - 1) / kGroups;
+    std::vector<std::vector<std::uint32_t>> group_hist(kGroups);
+    parallel_for(exec, long(kGroups), [&](long g0, long g1) {
+        for (long g = g0; g < g1; ++g) {
+            auto& h = group_hist[std::size_t(g)];
+            h.assign(kBuckets, 0);
+            for (std::size_t p = std::size_t(g) * per; p < std::min(parts.size(), std::size_t(g + 1) * per); ++p)
+                for (float v : parts[p]) ++h[bucket(v)];
         }
-    }
-    if (e.size() < 16) return 0.0;
-    const std::size_t q = e.size() * 3 / 4;
-    std::nth_element(e.begin(), e.begin() + std::ptrdiff_t(q), e.end());
+    });
+    std::vector<std::size_t> hist(kBuckets, 0);
+    for (const auto& h : group_hist)
+        for (std::size_t b = 0; b < kBuckets; ++b) hist[b] += h[b];
+    std::size_t b = 0, below = 0;
+    while (below + hist[b] <= k) below += hist[b++];
+    std::vector<float> in;
+    for (const auto& part : parts)
+        for (float v : part)
+            if (bucket(v) == b) in.push_back(v);
+    std::nth_element(in.begin(), in.begin() + std::ptrdiff_t(k - below), in.end());
+    return in[k - below];
+}
+
+}  // namespace
+
+double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity,
+                            const Exec& exec) {
+    // Every fourth row (and its columns at those rows): plenty of samples at
+    // any size, a fraction of a pass over the map. The rows in parallel.
+    const int nrows = height >= 3 ? (height - 3) / 4 + 1 : 0;  // y = 1, 5, 9, ... < height - 1
+    std::vector<std::vector<float>> rows(static_cast<std::size_t>(nrows));
+    parallel_for(exec, nrows, [&](long r0, long r1) {
+        for (long r = r0; r < r1; ++r) {
+            std::vector<float>& e = rows[std::size_t(r)];
+            auto triple = [&](float a, float m, float b) {  // sky (continuous with sky) has no inverse depth to compare
+                if (!std::isfinite(m) || !(m > 0.0f) || !continuous(a, m, continuity) || !continuous(b, m, continuity))
+                    return;
+                const double ua = 1.0 / a, um = 1.0 / m, ub = 1.0 / b;
+                e.push_back(float(std::abs(0.5 * (ua + ub) - um) / um));
+            };
+            const int y = 1 + 4 * int(r);
+            const float* row = depth.data() + std::size_t(y) * std::size_t(width);
+            for (int x = 1; x + 1 < width; ++x) {
+                triple(row[x - 1], row[x], row[x + 1]);
+                triple(row[x - width], row[x], row[x + width]);
+            }
+        }
+    }, 8);
+    std::size_t count = 0;
+    for (const auto& r : rows) count += r.size();
+    if (count < 16) return 0.0;
     constexpr double kQuartileToSigma = 1.0 / 1.1503;  // Gaussian: P(|x| < 1.1503 sigma) = 0.75
-    return double(e[q]) * kQuartileToSigma / std::sqrt(1.5);
+    return double(kth_smallest(rows, count * 3 / 4, exec)) * kQuartileToSigma / std::sqrt(1.5);
 }
 
 void smooth_depth_noise(std::vector<float>& depth, int width, int height, double continuity, int radius,

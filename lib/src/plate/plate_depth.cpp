@@ -83,7 +83,7 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity, exec);
     // Noise is measured on what the sensor gave (holes and speckles do not
     // count: they are not within a surface).
-    out.stats.noise = estimate_depth_noise(out.depth, W, H, options.continuity);
+    out.stats.noise = estimate_depth_noise(out.depth, W, H, options.continuity, exec);
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
         out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed, exec);

@@ -45,7 +45,8 @@ std::size_t remove_speckles(std::vector<float>& depth, int width, int height, do
 // The relative noise of a depth map (a standard deviation as a fraction of
 // the depth), from the second differences of inverse depth within surfaces
 // (depth_noise.cpp); 0 when too few pixels continue a surface.
-double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity);
+double estimate_depth_noise(const std::vector<float>& depth, int width, int height, double continuity,
+                            const Exec& exec = {});
 
 // Each finite pixel (not keep[i]) takes the inverse-depth plane fitted
 // through the pixels of its (2 radius + 1)^2 window within `continuity` of

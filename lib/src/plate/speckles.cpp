@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <unordered_map>
 #include <utility>
 
+#include "image/frame_buffer.h"
 #include "plate/plate_internal.h"
 
 namespace gdof::plate_detail {
@@ -20,8 +20,14 @@ namespace gdof::plate_detail {
 namespace {
 
 struct UnionFind {
-    std::vector<int> parent, size;
-    explicit UnionFind(std::size_t n) : parent(n), size(n, 1) { std::iota(parent.begin(), parent.end(), 0); }
+    FrameBuffer<int> parent, size;
+    UnionFind(std::size_t n, std::size_t width, const Exec& exec) : parent(n) {
+        parallel_assign(size, n, 1, width, exec);
+        const std::size_t w = std::max<std::size_t>(1, width);
+        parallel_for(exec, long((n + w - 1) / w), [&](long r0, long r1) {
+            for (std::size_t i = std::size_t(r0) * w; i < std::min(n, std::size_t(r1) * w); ++i) parent[i] = int(i);
+        }, 64);
+    }
     int find(int i) {
         while (parent[std::size_t(i)] != i) {
             parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
@@ -43,7 +49,7 @@ struct UnionFind {
 std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px,
                             const std::vector<unsigned char>& keep, const Exec& exec) {
     const std::size_t n = depth.size();
-    UnionFind uf(n);
+    UnionFind uf(n, std::size_t(W), exec);
     // Components in bands of rows, in parallel: a band's joins touch only its
     // own pixels, so the bands' union-find trees are disjoint; the rows
     // between bands are joined after, one band edge at a time. The
@@ -73,7 +79,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
     for (int b = 1; b < nbands; ++b)
         for (int x = 0; x < W; ++x) join_forward(x, b * kBand - 1, std::min(H, b * kBand + 1));
     // Roots without path compression (reads only, so in parallel).
-    std::vector<int> root(n);
+    FrameBuffer<int> root(n);  // every element set below
     parallel_for(exec, H, [&](long y0, long y1) {
         for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
             int r = int(i);

@@ -50,7 +50,9 @@ Map random_map(unsigned seed, bool with_empty) {
 // emptiness is strictly nearer or nothing is behind.
 layers_detail::BackgroundOwners brute_force(const Map& m) {
     const std::size_t n = m.slice.size();
-    layers_detail::BackgroundOwners out{std::vector<int>(n, -1), std::vector<float>(n, kInf)};
+    layers_detail::BackgroundOwners out;
+    out.owner.assign(n, -1);
+    out.distance.assign(n, kInf);
     auto front = [&](std::size_t i) { return m.fg[i] >= 0 && m.fg[i] < m.slice[i] ? m.fg[i] : m.slice[i]; };
     for (int y = 0; y < m.H; ++y)
         for (int x = 0; x < m.W; ++x) {

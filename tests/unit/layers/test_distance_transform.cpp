@@ -27,7 +27,7 @@ std::vector<float> brute_force(const std::vector<unsigned char>& mask, int W, in
 }
 
 void expect_exact(const std::vector<unsigned char>& mask, int W, int H, int threads) {
-    std::vector<float> got;
+    FrameBuffer<float> got;
     Exec exec;
     exec.nthreads = threads;
     distance_transform(mask, W, H, got, exec);
@@ -53,7 +53,7 @@ TEST(distance_transform, RandomMasksAreExact) {
 TEST(distance_transform, EmptyFullAndSinglePixel) {
     const int W = 257, H = 9;  // more columns than one block of the column pass
     std::vector<unsigned char> mask(std::size_t(W) * H, 0);
-    std::vector<float> d;
+    FrameBuffer<float> d;
     distance_transform(mask, W, H, d, Exec{});
     for (float v : d) EXPECT_TRUE(std::isinf(v));
     std::fill(mask.begin(), mask.end(), 1);
@@ -69,7 +69,7 @@ TEST(distance_transform, SameBitsForAnyThreadCount) {
     std::mt19937 rng(11);
     std::vector<unsigned char> mask(std::size_t(W) * H);
     for (auto& m : mask) m = rng() % 5000 == 0 ? 1 : 0;
-    std::vector<float> a, b;
+    FrameBuffer<float> a, b;
     Exec one, two;
     one.nthreads = 1;
     two.nthreads = 2;

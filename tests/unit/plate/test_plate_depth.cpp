@@ -239,6 +239,34 @@ TEST(plate_depth, SensorNoiseIsMeasuredAndSmoothedWithoutCrossingASilhouette) {
     auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), on);
     ASSERT_TRUE(pd) << pd.message();
     EXPECT_NEAR(pd->stats.noise, 0.005, 0.0005) << "the noise the depth was given";
+    // Exactly the upper quartile of the second differences a plain serial
+    // pass and nth_element give (the library finds it in parallel, through
+    // a histogram of the values' bits), with one thread or two.
+    {
+        std::vector<float> e;
+        auto triple = [&](float a, float m, float b) {
+            auto cont = [](float p, float q) { return double(std::max(p, q)) <= double(std::min(p, q)) * 1.05; };
+            if (!(m > 0.0f) || !cont(a, m) || !cont(b, m)) return;
+            const double ua = 1.0 / a, um = 1.0 / m, ub = 1.0 / b;
+            e.push_back(float(std::abs(0.5 * (ua + ub) - um) / um));
+        };
+        for (int y = 1; y + 1 < kH; y += 4)
+            for (int x = 1; x + 1 < kW; ++x) {
+                const float* r = noisy.data() + std::size_t(y) * kW;
+                triple(r[x - 1], r[x], r[x + 1]);
+                triple(r[x - kW], r[x], r[x + kW]);
+            }
+        const std::size_t q = e.size() * 3 / 4;
+        std::nth_element(e.begin(), e.begin() + std::ptrdiff_t(q), e.end());
+        EXPECT_DOUBLE_EQ(pd->stats.noise, double(e[q]) / 1.1503 / std::sqrt(1.5));
+        for (int threads : {1, 2}) {
+            Exec exec;
+            exec.nthreads = threads;
+            auto t = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera(), on, exec);
+            ASSERT_TRUE(t);
+            EXPECT_EQ(t->stats.noise, pd->stats.noise) << threads << " thread(s)";
+        }
+    }
     EXPECT_EQ(pd->stats.noise_smoothing_radius, 2);
     EXPECT_NE(pd->stats.report().find("noise 0.5"), std::string::npos) << pd->stats.report();
     // Squared relative error before and after; no pixel takes a depth of the
