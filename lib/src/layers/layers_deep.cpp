@@ -397,15 +397,16 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
     std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
     if (with_positions) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
     const Roi box = ext_.box[li];
-    L.image = Image::with_channels(chan_names, box);
-    L.image.set_display_window(deep_.display_window());
+    std::vector<ChannelSpec> specs;
+    for (const std::string& n : chan_names) specs.push_back({n, PixelType::Float});
+    // Every pixel written below (the layer's, or blank: RGBA 0, Z and P NaN),
+    // rows in parallel: no serial zeroing of frame-sized planes first.
+    L.image = Image::uninitialized(std::move(specs), box, deep_.display_window());
     L.image.metadata = deep_.metadata;
     L.image.name = L.name;
     L.image.view = deep_.view;
     Image& img = L.image;
-    std::fill_n(img.plane(4), img.npixels(), kNaN);
-    if (with_positions)
-        for (int c = 5; c < 8; ++c) std::fill_n(img.plane(c), img.npixels(), kNaN);
+    const int nch = img.nchannels();
     const SamplePlanes s(deep_, ch_);
     const float* sp[3] = {with_positions ? deep_.samples((*ch_.p)[0]) : nullptr,
                           with_positions ? deep_.samples((*ch_.p)[1]) : nullptr,
@@ -418,7 +419,11 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
                 const std::size_t s0 = deep_.first_sample(p), ns = deep_.sample_count(p);
                 bool mine = false;
                 for (std::size_t k = s0; k < s0 + ns && !mine; ++k) mine = sl_.layer_of[k] == l;
-                if (!mine) continue;
+                if (!mine) {
+                    const std::size_t off = img.offset(x, y);
+                    for (int c = 0; c < nch; ++c) img.plane(c)[off] = c < 4 ? 0.0f : kNaN;
+                    continue;
+                }
                 sorted_samples(deep_, s.z, p, order);
                 Over o;
                 for (std::size_t k : order) {
@@ -429,8 +434,8 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
                 }
                 const std::size_t off = img.offset(x, y);
                 store_over(img, off, o, o.mean_z());
-                if (with_positions && o.wsum > 0)
-                    for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = float(o.psum[std::size_t(c)] / o.wsum);
+                if (with_positions)
+                    for (int c = 0; c < 3; ++c) img.plane(5 + c)[off] = o.wsum > 0 ? float(o.psum[std::size_t(c)] / o.wsum) : kNaN;
             }
     });
     if (!ok) return Status::cancelled();
