@@ -119,17 +119,43 @@ Guide make_guide(const Image& plate, const Exec& exec) {
 Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, const Exec& exec, std::size_t& filled) {
     const std::size_t n = depth.size();
     filled = 0;
-    // Rings by breadth-first search from the known pixels.
-    std::vector<int> ring(n, -1);
+    // Rings by breadth-first search from the known pixels: ring 0 the known
+    // ones, ring 1 the holes beside them (found in parallel), then outwards
+    // from ring 1 only (most of a map is known: it is not queued). The order
+    // within a ring does not matter: its pixels read earlier rings only.
+    std::vector<int> ring(n);
+    std::vector<std::size_t> row_known(std::size_t(H), 0);
+    std::vector<std::vector<int>> row_ring1(static_cast<std::size_t>(H));
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i) {
+                const bool known = !std::isnan(depth[i]);
+                ring[i] = known ? 0 : -1;
+                row_known[std::size_t(y)] += known ? 1 : 0;
+            }
+    }, 16);
+    std::size_t nknown = 0;
+    for (std::size_t k : row_known) nknown += k;
+    if (nknown == 0) return Status::error("the depth map has no valid value to fill its holes from");
+    if (nknown == n) return Status::ok();
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                if (ring[i] == 0) continue;
+                const bool beside = (x > 0 && ring[i - 1] == 0) || (x + 1 < W && ring[i + 1] == 0) ||
+                                    (y > 0 && ring[i - std::size_t(W)] == 0) || (y + 1 < H && ring[i + std::size_t(W)] == 0);
+                if (beside) row_ring1[std::size_t(y)].push_back(int(i));
+            }
+    }, 16);
+    std::vector<std::vector<int>> rings(2);
     std::deque<int> queue;
-    for (std::size_t i = 0; i < n; ++i)
-        if (!std::isnan(depth[i])) {
-            ring[i] = 0;
-            queue.push_back(int(i));
+    for (const std::vector<int>& row : row_ring1)
+        for (int i : row) {
+            ring[std::size_t(i)] = 1;
+            rings[1].push_back(i);
+            queue.push_back(i);
         }
-    if (queue.empty()) return Status::error("the depth map has no valid value to fill its holes from");
-    if (queue.size() == n) return Status::ok();
-    std::vector<std::vector<int>> rings(1);
     while (!queue.empty()) {
         const int i = queue.front();
         queue.pop_front();
@@ -150,6 +176,15 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
     const double inv_s = 1.0 / (2 * kSpatialSigma * kSpatialSigma);
     const double inv_wide = 1.0 / (2 * kWideSpatialSigma * kWideSpatialSigma);
     const double inv_c = 1.0 / (2 * kColourSigma * kColourSigma);
+    // The spatial weights of both windows, once (the same values as computed
+    // per candidate).
+    auto spatial_table = [](int radius, double inv_spatial) {
+        std::vector<double> t;
+        for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx) t.push_back(std::exp(-(dx * dx + dy * dy) * inv_spatial));
+        return t;
+    };
+    const std::vector<double> near_weight = spatial_table(kWindow, inv_s), wide_weight = spatial_table(kWideWindow, inv_wide);
     for (std::size_t r = 1; r < rings.size(); ++r) {
         const std::vector<int>& pixels = rings[r];
         Status st = parallel_run(exec, long(pixels.size()), [&](long b, long e) {
@@ -159,7 +194,7 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                 const int x = i % W, y = i / W;
                 // The known pixels (earlier rings) within `radius`; returns
                 // the best colour affinity among them.
-                auto gather = [&](int radius, double inv_spatial) {
+                auto gather = [&](int radius, const std::vector<double>& spatial) {
                     cand.clear();
                     double best = 0;
                     for (int dy = -radius; dy <= radius; ++dy)
@@ -169,7 +204,7 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                             const int j = yy * W + xx;
                             const int rj = ring[std::size_t(j)];
                             if (rj < 0 || std::size_t(rj) >= r) continue;
-                            double w = std::exp(-(dx * dx + dy * dy) * inv_spatial);
+                            double w = spatial[std::size_t(dy + radius) * std::size_t(2 * radius + 1) + std::size_t(dx + radius)];
                             if (!guide.empty()) {
                                 double dc = 0;
                                 for (int c = 0; c < 3; ++c) {
@@ -184,9 +219,9 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                         }
                     return best;
                 };
-                if (gather(kWindow, inv_s) < kColourMatch && !guide.empty()) {
+                if (gather(kWindow, near_weight) < kColourMatch && !guide.empty()) {
                     const std::vector<Candidate> near = cand;
-                    if (!(gather(kWideWindow, inv_wide) >= kColourMatch)) cand = near;  // nothing alike further either
+                    if (!(gather(kWideWindow, wide_weight) >= kColourMatch)) cand = near;  // nothing alike further either
                 }
                 // Ring r always has a 4-neighbour in ring r - 1.
                 sorted = cand;
