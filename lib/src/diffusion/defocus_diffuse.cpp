@@ -83,9 +83,8 @@ RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis,
                 float wgt = 0.0f;
                 if (in_win && x >= win.x0 && x < win.x1) {
                     const std::size_t src = img.offset(x, y);
-                    wgt = known_weight(analysis, layer, src);
+                    wgt = known_weight(analysis, layer, src);  // 0 or in (0, 1]
                     if (wgt > 0.0f) full[row + std::size_t(x - ext.x0)] = analysis.radius[src];
-                    else wgt = 0.0f;
                 }
                 weight[row + std::size_t(x - ext.x0)] = wgt;
             }

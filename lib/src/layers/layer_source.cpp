@@ -47,6 +47,18 @@ Result<std::vector<Layer>> make_all(const LayerSource& source, const Exec& exec)
     return layers;
 }
 
+Image layer_image(bool with_positions, const Roi& box, const Roi& display, const Metadata& metadata,
+                  const std::string& name, const std::string& view) {
+    std::vector<ChannelSpec> specs;
+    for (const char* c : {"R", "G", "B", "A", "Z", "P.x", "P.y", "P.z"})
+        if (with_positions || specs.size() < 5) specs.push_back({c, PixelType::Float});
+    Image img = Image::uninitialized(std::move(specs), box, display);
+    img.metadata = metadata;
+    img.name = name;
+    img.view = view;
+    return img;
+}
+
 }  // namespace layers_detail
 
 std::unique_ptr<LayerSource> source_of(const std::vector<Layer>& front_to_back) {

@@ -394,19 +394,9 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
         L.slice_far = sl_.slice_hi[li];
         L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)" : depth_range_name(L.depth_near, L.depth_far);
     }
-    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
-    if (with_positions) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
     const Roi box = ext_.box[li];
-    std::vector<ChannelSpec> specs;
-    for (const std::string& n : chan_names) specs.push_back({n, PixelType::Float});
-    // Every pixel written below (the layer's, or blank: RGBA 0, Z and P NaN),
-    // rows in parallel: no serial zeroing of frame-sized planes first.
-    L.image = Image::uninitialized(std::move(specs), box, deep_.display_window());
-    L.image.metadata = deep_.metadata;
-    L.image.name = L.name;
-    L.image.view = deep_.view;
+    L.image = layer_image(with_positions, box, deep_.display_window(), deep_.metadata, L.name, deep_.view);
     Image& img = L.image;
-    const int nch = img.nchannels();
     const SamplePlanes s(deep_, ch_);
     const float* sp[3] = {with_positions ? deep_.samples((*ch_.p)[0]) : nullptr,
                           with_positions ? deep_.samples((*ch_.p)[1]) : nullptr,
@@ -420,8 +410,7 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
                 bool mine = false;
                 for (std::size_t k = s0; k < s0 + ns && !mine; ++k) mine = sl_.layer_of[k] == l;
                 if (!mine) {
-                    const std::size_t off = img.offset(x, y);
-                    for (int c = 0; c < nch; ++c) img.plane(c)[off] = c < 4 ? 0.0f : kNaN;
+                    blank_layer_pixel(img, img.offset(x, y));
                     continue;
                 }
                 sorted_samples(deep_, s.z, p, order);

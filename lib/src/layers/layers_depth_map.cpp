@@ -349,20 +349,10 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
     const int reach = options_.continue_surfaces ? int(std::ceil(options_.extend_px)) : 0;
     if (!empty && reach > 0)
         box = unite(box, continue_surface(ps_.depth, ps_.present, slice_, owner_, s, W, H, win, options_.continuity, reach, cont));
-    std::vector<std::string> chan_names = {"R", "G", "B", "A", "Z"};
-    if (pos_) chan_names.insert(chan_names.end(), {"P.x", "P.y", "P.z"});
-    std::vector<ChannelSpec> specs;
-    for (const std::string& c : chan_names) specs.push_back({c, PixelType::Float});
-    // Every pixel written below (the layer's part, or blank: RGBA 0, Z and P
-    // NaN), rows in parallel: no serial zeroing of frame-sized planes first.
-    L.image = Image::uninitialized(std::move(specs), box, img_.display_window());
-    L.image.metadata = img_.metadata;
-    L.image.name = L.name;
-    L.image.view = img_.view;
+    L.image = layer_image(pos_.has_value(), box, img_.display_window(), img_.metadata, L.name, img_.view);
     const float* pp[3] = {pos_ ? img_.plane((*pos_)[0]) : nullptr, pos_ ? img_.plane((*pos_)[1]) : nullptr,
                           pos_ ? img_.plane((*pos_)[2]) : nullptr};
     Image& out = L.image;
-    const int nch = out.nchannels();
     const bool done = parallel_for(exec, box.height(), [&](long r0, long r1) {
         for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
             for (int x = box.x0; x < box.x1; ++x) {
@@ -370,7 +360,7 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
                 const std::size_t i = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
                 Part p;
                 if (!part_of(i, s, p, !cont.empty() && cont[i])) {
-                    for (int c = 0; c < nch; ++c) out.plane(c)[o] = c < 4 ? 0.0f : kNaN;
+                    blank_layer_pixel(out, o);
                     continue;
                 }
                 for (int c = 0; c < 3; ++c) out.plane(c)[o] = p.rgb[c];

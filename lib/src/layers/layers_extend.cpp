@@ -167,11 +167,10 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // Frame-sized at 4K and left unset where the weight is 0: the fill reads
     // values only where the weight is > 0 and writes the wanted unknown ones,
     // the only ones read after it. The weights are set in the loop below.
-    using Buffer = FrameBuffer<float>;
-    Buffer fill_planes(std::size_t(nfill) * wn);  // back to back over `work`
+    FrameBuffer<float> fill_planes(std::size_t(nfill) * wn);  // back to back over `work`
     std::array<float*, 7> fill{};
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
-    Buffer wcol(wn), wgeo(wn);
+    FrameBuffer<float> wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
     const std::vector<unsigned char> rim = coverage_rim(own, ww, wh, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
@@ -213,7 +212,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // emptiness only: own presence, 1), 0 where seen empty. Where nothing is
     // seen empty and every own pixel is opaque it is 1 everywhere, so the
     // fill is skipped (an opaque plate's layers, the frame-sized farthest too).
-    Buffer cover, wcover;
+    FrameBuffer<float> cover, wcover;
     const bool presence_only = opt.coverage_fades_at_emptiness_only;
     bool coverage_continues = false;
     if (opt.continue_coverage) {

@@ -100,6 +100,18 @@ Status check_extend_options(const ExtendOptions& options, const Roi& frame);
 // Every layer of a source, made in order (the list builders).
 Result<std::vector<Layer>> make_all(const LayerSource& source, const Exec& exec);
 
+// A layer's image over `box`: float R, G, B, A, Z (and P.x, P.y, P.z with
+// positions), with the source's display window, metadata and view, named
+// `name`. Left unset: its maker writes every pixel, in parallel (a frame-
+// sized layer zeroed first is a serial pass over fresh memory), the pixels
+// that hold nothing with blank_layer_pixel.
+Image layer_image(bool with_positions, const Roi& box, const Roi& display, const Metadata& metadata,
+                  const std::string& name, const std::string& view);
+// A pixel of a layer image that holds nothing: RGBA 0, Z and P NaN.
+inline void blank_layer_pixel(Image& img, std::size_t offset) {
+    for (int c = 0; c < img.nchannels(); ++c) img.plane(c)[offset] = c < 4 ? 0.0f : kNaN;
+}
+
 // "depth 2.1-3.4"
 std::string depth_range_name(double near, double far);
 
