@@ -178,7 +178,7 @@ Status solve_level_in_place(const ImageView& planes, const float* cell_radius, s
     DiffusionOptions s = layer_solver_settings(settings, level_radius(layer_max, scale), radius, exec);
     if (used && s.solver == DiffusionSolver::Explicit) {
         const int iterations = explicit_iterations(level_radius(layer_max, scale), settings);
-        const std::vector<unsigned char> reach = image_detail::dilate_square(*used, W, box.height(), iterations + 2, exec);
+        const FrameBuffer<unsigned char> reach = image_detail::dilate_square(*used, W, box.height(), iterations + 2, exec);
         std::vector<unsigned char> row_cut(std::size_t(box.height()), 0);
         parallel_for(exec, box.height(), [&](long r0, long r1) {
             for (long y = r0; y < r1; ++y)

@@ -22,7 +22,7 @@ namespace {
 // one plane after another.
 struct Level {
     int w = 0, h = 0;
-    std::vector<float, DefaultInitAllocator<float>> weight, values;  // every element set by push()
+    std::vector<float, DefaultInitAllocator<float>> weight, values;  // weights set by push(), values where the weight is > 0 (the others by pull() before they are read)
     float* plane(int c) { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
     const float* plane(int c) const { return values.data() + std::size_t(c) * std::size_t(w) * std::size_t(h); }
 };
@@ -51,7 +51,8 @@ std::vector<Tap> taps(int fine, int coarse) {
 }
 
 // Push: each coarse pixel the weight-normalised average of its (up to) 2x2
-// fine pixels; its weight their weights' sum, at most 1. The fine level is
+// fine pixels (left unset where they have no weight); its weight their
+// weights' sum, at most 1. The fine level is
 // level 0 (the caller's planes, weights clamped to [0, 1], values counted
 // only where the weight is > 0) or a coarse level.
 Level push(int fw, int fh, const float* fweight, std::span<const float* const> fplanes, bool level0,
@@ -93,10 +94,10 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
                 float* out = c.plane(k) + std::size_t(y) * std::size_t(c.w);
                 for (int x = 0; x < c.w; ++x) {
                     const float sum = wsum[std::size_t(x)];
-                    if (!(sum > 0.0f)) {  // nothing known below (most of a layer's frame): no reads
-                        out[x] = 0.0f;
-                        continue;
-                    }
+                    // Nothing known below (most of a layer's frame): no reads, and
+                    // no write either: a pixel of weight 0 is read only after a
+                    // pull has written it (every tap a pull reads is pulled first).
+                    if (!(sum > 0.0f)) continue;
                     const float* w = &w4[4 * std::size_t(x)];
                     const std::size_t* i = &src[4 * std::size_t(x)];
                     float acc = 0.0f;
@@ -122,23 +123,25 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
     const int nc = int(out.size());
     const float* cw = c.weight.data();
     parallel_for(exec, fh, [&](long y0, long y1) {
-        std::vector<float> w(static_cast<std::size_t>(fw));
-        std::vector<std::array<float, 5>> taps4(static_cast<std::size_t>(fw));  // per pixel, shared by the planes: 4 weights, their sum
+        // Per pulled pixel of the row (weight below 1, wanted): its column,
+        // own weight, and four tap weights with their sum, shared by the planes.
+        struct Pulled {
+            int x;
+            float wx;
+            std::array<float, 5> t;
+        };
+        std::vector<Pulled> pulled;
+        pulled.reserve(static_cast<std::size_t>(fw));
         for (long yl = y0; yl < y1; ++yl) {
             const Tap& vy = ty[std::size_t(yl)];
             const std::size_t ra = std::size_t(vy.a) * std::size_t(c.w), rb = std::size_t(vy.b) * std::size_t(c.w);
             const std::size_t row = std::size_t(yl) * std::size_t(fw);
-            if (!wanted.empty() && std::none_of(wanted.begin() + std::ptrdiff_t(row), wanted.begin() + std::ptrdiff_t(row + std::size_t(fw)),
-                                                [](unsigned char v) { return v != 0; }))
-                continue;
-            bool any = false;
+            pulled.clear();
             for (int x = 0; x < fw; ++x) {
+                if (!wanted.empty() && !wanted[row + std::size_t(x)]) continue;
                 const float fwt = fweight[row + std::size_t(x)];
-                const bool skip = !wanted.empty() && !wanted[row + std::size_t(x)];
-                const float wx = skip ? 1.0f : unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
-                w[std::size_t(x)] = wx;
+                const float wx = unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
                 if (wx >= 1.0f) continue;
-                any = true;
                 // The four coarse taps weighted by their bilinear weights times their
                 // own confidence (pushed weight, + kFilledTap): a coarse pixel that
                 // holds samples outweighs one that was itself filled from further up.
@@ -147,25 +150,24 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
                 // cells span the whole neighbourhood (a lamp's brightness over a dark
                 // ceiling 60 px away).
                 const Tap& vx = tx[std::size_t(x)];
-                std::array<float, 5>& t = taps4[std::size_t(x)];
+                Pulled p{x, wx, {}};
+                std::array<float, 5>& t = p.t;
                 t[0] = (1.0f - vx.t) * (1.0f - vy.t) * (cw[ra + std::size_t(vx.a)] + kFilledTap);
                 t[1] = vx.t * (1.0f - vy.t) * (cw[ra + std::size_t(vx.b)] + kFilledTap);
                 t[2] = (1.0f - vx.t) * vy.t * (cw[rb + std::size_t(vx.a)] + kFilledTap);
                 t[3] = vx.t * vy.t * (cw[rb + std::size_t(vx.b)] + kFilledTap);
                 t[4] = t[0] + t[1] + t[2] + t[3];
+                pulled.push_back(p);
             }
-            if (!any) continue;
             for (int k = 0; k < nc; ++k) {
                 const float* top = c.plane(k) + ra;
                 const float* bot = c.plane(k) + rb;
                 float* o = out[std::size_t(k)] + row;
-                for (int x = 0; x < fw; ++x) {
-                    const float wx = w[std::size_t(x)];
-                    if (wx >= 1.0f) continue;
-                    const Tap& vx = tx[std::size_t(x)];
-                    const std::array<float, 5>& t = taps4[std::size_t(x)];
+                for (const Pulled& p : pulled) {
+                    const Tap& vx = tx[std::size_t(p.x)];
+                    const std::array<float, 5>& t = p.t;
                     const float up = (t[0] * top[vx.a] + t[1] * top[vx.b] + t[2] * bot[vx.a] + t[3] * bot[vx.b]) / t[4];
-                    o[x] = wx > 0.0f ? wx * o[x] + (1.0f - wx) * up : up;
+                    o[p.x] = p.wx > 0.0f ? p.wx * o[p.x] + (1.0f - p.wx) * up : up;
                 }
             }
         }

@@ -5,8 +5,10 @@
 
 namespace gdof::image_detail {
 
-std::vector<unsigned char> dilate_square(const std::vector<unsigned char>& mask, int W, int H, int m, const Exec& exec) {
-    std::vector<unsigned char> rows(mask.size(), 0), out(mask.size(), 0);
+// Every element of `rows` and `out` is written by the first (forward,
+// downward) scan of its pass, so neither is zeroed first.
+FrameBuffer<unsigned char> dilate_square(std::span<const unsigned char> mask, int W, int H, int m, const Exec& exec) {
+    FrameBuffer<unsigned char> rows(mask.size()), out(mask.size());
     parallel_for(exec, H, [&](long r0, long r1) {
         for (long y = r0; y < r1; ++y) {
             const unsigned char* in = mask.data() + std::size_t(y) * std::size_t(W);
@@ -14,7 +16,7 @@ std::vector<unsigned char> dilate_square(const std::vector<unsigned char>& mask,
             int last = -1 - m;  // nearest set pixel at or left of x
             for (int x = 0; x < W; ++x) {
                 if (in[x]) last = x;
-                if (x - last <= m) o[x] = 1;
+                o[x] = x - last <= m ? 1 : 0;
             }
             last = W + m;
             for (int x = W - 1; x >= 0; --x) {
@@ -32,7 +34,7 @@ std::vector<unsigned char> dilate_square(const std::vector<unsigned char>& mask,
             for (int x = xa; x < xb; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                 if (rows[i]) last[std::size_t(x - xa)] = y;
-                if (y - last[std::size_t(x - xa)] <= m) out[i] = 1;
+                out[i] = y - last[std::size_t(x - xa)] <= m ? 1 : 0;
             }
         std::fill(last.begin(), last.end(), H + m);
         for (int y = H - 1; y >= 0; --y)

@@ -116,13 +116,25 @@ BackgroundOwners background_owners(const std::vector<int>& slice, const std::vec
         for (long b = b0; b < b1; ++b) {
             const int y0 = int(std::int64_t(H) * b / nbands), y1 = int(std::int64_t(H) * (b + 1) / nbands);
             Roi* box = band_box.data() + std::size_t(b) * std::size_t(nslices);
-            for (int y = y0; y < y1; ++y)
+            // Per row, each slice's first and last column (a box per row, not
+            // per pixel).
+            std::vector<int> xlo(std::size_t(std::max(0, nslices))), xhi(std::size_t(std::max(0, nslices)));
+            for (int y = y0; y < y1; ++y) {
+                std::fill(xlo.begin(), xlo.end(), W);
+                std::fill(xhi.begin(), xhi.end(), -1);
+                const std::size_t r = std::size_t(y) * std::size_t(W);
                 for (int x = 0; x < W; ++x) {
-                    const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-                    if (slice[i] < 0) band_empty[std::size_t(b)] = 1;
-                    for (int k : {slice[i], fg_slice[i]})
-                        if (k >= 0 && k < nslices) box[k] = unite(box[k], Roi{x, y, x + 1, y + 1});
+                    const int a = slice[r + std::size_t(x)], f = fg_slice[r + std::size_t(x)];
+                    if (a < 0) band_empty[std::size_t(b)] = 1;
+                    for (int k : {a, f})
+                        if (k >= 0 && k < nslices) {
+                            xlo[std::size_t(k)] = std::min(xlo[std::size_t(k)], x);
+                            xhi[std::size_t(k)] = x;
+                        }
                 }
+                for (int k = 0; k < nslices; ++k)
+                    if (xhi[std::size_t(k)] >= 0) box[k] = unite(box[k], Roi{xlo[std::size_t(k)], y, xhi[std::size_t(k)] + 1, y + 1});
+            }
         }
     });
     std::vector<Roi> box(std::size_t(std::max(0, nslices)));

@@ -69,7 +69,9 @@ struct RowPass {
             while (j < k && z[std::size_t(j) + 1].num <= std::int64_t(q) * z[std::size_t(j) + 1].den) ++j;
             const int p = v[std::size_t(j)];
             const std::int64_t d2 = std::int64_t(q - p) * (q - p) + f[p];
-            out[q] = float(std::sqrt(double(d2)));
+            // Below 2^24 the float is exact and its float square root the same
+            // as the double one rounded (double has more than 2 x 24 + 2 bits).
+            out[q] = d2 < (std::int64_t(1) << 24) ? std::sqrt(float(d2)) : float(std::sqrt(double(d2)));
         }
     }
 };

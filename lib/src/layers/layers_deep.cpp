@@ -407,13 +407,21 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
             for (int x = box.x0; x < box.x1; ++x) {
                 const std::size_t p = deep_.pixel_index(x, y);
                 const std::size_t s0 = deep_.first_sample(p), ns = deep_.sample_count(p);
-                bool mine = false;
-                for (std::size_t k = s0; k < s0 + ns && !mine; ++k) mine = sl_.layer_of[k] == l;
-                if (!mine) {
+                // The layer's samples of the pixel: none, one (most pixels of a
+                // layer: nothing to sort), or several, composited in depth order.
+                int mine = 0;
+                std::size_t first = 0;
+                for (std::size_t k = s0; k < s0 + ns && mine < 2; ++k)
+                    if (sl_.layer_of[k] == l) first = k, ++mine;
+                if (mine == 0) {
                     blank_layer_pixel(img, img.offset(x, y));
                     continue;
                 }
-                sorted_samples(deep_, s.z, p, order);
+                if (mine == 1) {
+                    order.assign(1, first);
+                } else {
+                    sorted_samples(deep_, s.z, p, order);
+                }
                 Over o;
                 for (std::size_t k : order) {
                     if (sl_.layer_of[k] != l) continue;

@@ -18,18 +18,26 @@ namespace {
 
 // A layer's own coverage over `work`: A > 0 or any colour != 0, and its
 // alpha clamped to [0, 1] there (0 elsewhere).
-void coverage(const Image& img, const Roi& work, std::vector<float>& alpha, std::vector<unsigned char>& own,
+void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, FrameBuffer<unsigned char>& own,
               const Exec& exec) {
     const std::size_t n = work.npixels();
-    alpha.assign(n, 0.0f);
-    own.assign(n, 0);
+    alpha.resize(n);  // every element written below
+    own.resize(n);
     const Roi w = intersect(img.data_window(), work);
-    if (w.empty()) return;
-    parallel_for(exec, w.height(), [&](long r0, long r1) {
-        for (int y = w.y0 + int(r0); y < w.y0 + int(r1); ++y) {
+    const std::size_t ww = std::size_t(work.width());
+    parallel_for(exec, work.height(), [&](long r0, long r1) {
+        for (int y = work.y0 + int(r0); y < work.y0 + int(r1); ++y) {
+            const std::size_t row = std::size_t(y - work.y0) * ww;
+            const bool in_w = !w.empty() && y >= w.y0 && y < w.y1;
+            const std::size_t xa = in_w ? std::size_t(w.x0 - work.x0) : ww, xb = in_w ? std::size_t(w.x1 - work.x0) : ww;
+            std::fill(own.begin() + std::ptrdiff_t(row), own.begin() + std::ptrdiff_t(row + xa), 0);
+            std::fill(alpha.begin() + std::ptrdiff_t(row), alpha.begin() + std::ptrdiff_t(row + xa), 0.0f);
+            std::fill(own.begin() + std::ptrdiff_t(row + xb), own.begin() + std::ptrdiff_t(row + ww), 0);
+            std::fill(alpha.begin() + std::ptrdiff_t(row + xb), alpha.begin() + std::ptrdiff_t(row + ww), 0.0f);
+            if (!in_w) continue;
             const std::size_t o = img.offset(w.x0, y);
             const float *R = img.plane(0) + o, *G = img.plane(1) + o, *B = img.plane(2) + o, *A = img.plane(3) + o;
-            const std::size_t i0 = std::size_t(y - work.y0) * std::size_t(work.width()) + std::size_t(w.x0 - work.x0);
+            const std::size_t i0 = row + xa;
             for (int x = 0; x < w.width(); ++x) {
                 const float a = A[x];
                 const bool present = covers(R[x], G[x], B[x], a);
@@ -48,8 +56,8 @@ void coverage(const Image& img, const Roi& work, std::vector<float>& alpha, std:
 // ceiling behind a nearer band on the benchmark's Cornell box).
 constexpr int kRim = 4;
 
-std::vector<unsigned char> coverage_rim(const std::vector<unsigned char>& own, int w, int h, const Exec& exec) {
-    std::vector<unsigned char> rim(own.size());
+FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, int w, int h, const Exec& exec) {
+    FrameBuffer<unsigned char> rim(own.size());  // every element written
     const std::size_t W = std::size_t(w);
     parallel_for(exec, h, [&](long r0, long r1) {
         for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) rim[i] = own[i] ? 0 : 1;
@@ -78,8 +86,9 @@ Result<ExtensionPlan> plan_extension(const std::vector<Layer>& layers, const Roi
         }
     const std::size_t n = frame.npixels();
     plan.hidden_from.assign(n, ExtensionPlan::kNeverHidden);
-    std::vector<float> occ(n, 0.0f), alpha;
-    std::vector<unsigned char> own;
+    std::vector<float> occ(n, 0.0f);
+    FrameBuffer<float> alpha;
+    FrameBuffer<unsigned char> own;
     for (int s = 0; s < nl; ++s) {
         if (exec.is_cancelled()) return Status::cancelled();
         const Image& img = layers[std::size_t(s)].image;
@@ -120,15 +129,15 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     auto fi = [&](int x, int y) {  // absolute -> frame index
         return std::size_t(y - frame.y0) * std::size_t(FW) + std::size_t(x - frame.x0);
     };
-    std::vector<float> alpha;
-    std::vector<unsigned char> own;
+    FrameBuffer<float> alpha;
+    FrameBuffer<unsigned char> own;
     coverage(L.image, work, alpha, own, exec);
     // Distance to the layer's own coverage (not needed where the owners'
     // distances are given, nor when the layer fills the frame).
     const bool with_owner_distance = !opt.owner.empty() && !opt.owner_distance.empty();
     FrameBuffer<float> dist;
     if (!fills_frame && !with_owner_distance) distance_transform(own, ww, wh, dist, exec);
-    std::vector<unsigned char> ext(wn, 0), seen_empty(wn, 0);
+    FrameBuffer<unsigned char> ext(wn), seen_empty(wn);  // every element written below
     // Rows marked in parallel, each with its own span of extension; the
     // union is taken after, in row order.
     std::vector<Roi> row_box(static_cast<std::size_t>(wh));
@@ -143,7 +152,8 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
                 const bool empty_here = !opt.coverage_fades_at_emptiness_only ||
                                         plan.hidden_from[i] == ExtensionPlan::kNeverHidden;
-                if (!hidden && !own[wi] && empty_here) seen_empty[wi] = 1;
+                seen_empty[wi] = !hidden && !own[wi] && empty_here ? 1 : 0;
+                ext[wi] = 0;
                 if (!hidden || own[wi] || !allowed) continue;
                 const float d = fills_frame ? 0.0f : with_owner_distance ? opt.owner_distance[i] : dist[wi];
                 if (fills_frame || d <= opt.extend_px) {
@@ -172,7 +182,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
     FrameBuffer<float> wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
-    const std::vector<unsigned char> rim = coverage_rim(own, ww, wh, exec);
+    const FrameBuffer<unsigned char> rim = coverage_rim(own, ww, wh, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < ww; ++x) {
