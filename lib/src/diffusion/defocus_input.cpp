@@ -14,6 +14,7 @@
 #include <chrono>
 #include <limits>
 #include <cmath>
+#include <span>
 #include <optional>
 #include <set>
 
@@ -55,7 +56,7 @@ std::string channel_list(const Image& img) {
 }
 
 // The largest finite value (0 if none).
-double largest_finite(const std::vector<float>& r) {
+double largest_finite(std::span<const float> r) {
     double m = 0.0;
     for (float v : r)
         if (std::isfinite(v)) m = std::max(m, double(v));
@@ -195,11 +196,11 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
 // largest blur radius of the image.
 // The blur radius of every pixel of a plate at its prepared depth (pixel
 // centres), and of every mixed pixel's foreground (one per entry of pd.mixed).
-Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, std::vector<float>& r,
+Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, FrameBuffer<float>& r,
                    std::vector<float>& rf, const Exec& exec) {
     const Roi w = pd.window;
     const int W = w.width();
-    r.assign(pd.depth.size(), 0.0f);
+    r.resize(pd.depth.size());  // every element evaluated below
     Status st = parallel_run(exec, w.height(), [&](long y0, long y1) {
         std::vector<PixelDepth> px(static_cast<std::size_t>(W));
         for (long yy = y0; yy < y1; ++yy) {
@@ -242,7 +243,8 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, settings.cleanup, exec);
     if (!pd) return pd.status().prefix("defocus");
     depth_stats = pd->stats;
-    std::vector<float> r, rf;
+    FrameBuffer<float> r;
+    std::vector<float> rf;
     if (Status st = plate_radii(field, camera, *pd, r, rf, exec); !st) return st.prefix("defocus: blur field");
     SliceOptions so;
     so.split = settings.split;

@@ -21,7 +21,7 @@ struct LayerAnalysis {
     // pixels where the field is finite.
     bool radius_from_alpha = true;
     double max_radius = 0.0;   // largest known radius (0: the layer is sharp)
-    std::vector<float> radius; // over the layer's data window, valid where known
+    FrameBuffer<float> radius; // over the layer's data window (every pixel evaluated), valid where known
 };
 
 // Blur map of a layer at its pixels' world positions (P, else Z + camera) and

@@ -112,7 +112,7 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
     a.content = content;
     a.radius_from_alpha = any_alpha;
 
-    a.radius.assign(img.npixels(), 0.0f);
+    a.radius.resize(img.npixels());  // every pixel written by the blur map
     // A layer's Z is decoded already (layers.h): what is not a depth there
     // (NaN, <= 0) is sky, as +inf is; holes were the input's to fill.
     PositionSource layer_z;

@@ -40,13 +40,14 @@ int floor_div(int a, int s) { return a >= 0 ? a / s : -((-a + s - 1) / s); }
 int ceil_div(int a, int s) { return -floor_div(-a, s); }
 
 // Four planes and a radius map over a window of cells (absolute cell
-// coordinates of the level), row-major.
+// coordinates of the level), row-major. Only the cells build_level()
+// computes are set: the ones solved and read back.
 struct Grid {
     Roi win;
-    std::vector<float> rgba;    // 4 planes
-    std::vector<float> radius;  // RMS full-resolution radius of the cell's kept pixels
-    std::vector<float> area;    // pixels of the work region inside the cell
-    explicit Grid(Roi w) : win(w), rgba(4 * w.npixels(), 0.0f), radius(w.npixels(), 0.0f), area(w.npixels(), 0.0f) {}
+    FrameBuffer<float> rgba;    // 4 planes
+    FrameBuffer<float> radius;  // RMS full-resolution radius of the cell's kept pixels
+    FrameBuffer<float> area;    // pixels of the work region inside the cell
+    explicit Grid(Roi w) : win(w), rgba(4 * w.npixels()), radius(w.npixels()), area(w.npixels()) {}
     std::size_t at(int x, int y) const {
         return std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0);
     }
@@ -97,8 +98,7 @@ Grid build_level(const float* const planes[4], const RadiusMap& radius, const Ro
                 const std::size_t o = g.at(X, Y);
                 g.area[o] = float(kept) / float(s * s);
                 g.radius[o] = kept ? float(std::sqrt(d_sum / kept)) : 0.0f;
-                if (kept)
-                    for (int k = 0; k < 4; ++k) g.plane(k)[o] = float(c[k] / kept);
+                for (int k = 0; k < 4; ++k) g.plane(k)[o] = kept ? float(c[k] / kept) : 0.0f;
             }
         }
     });
@@ -165,7 +165,7 @@ double level_radius(double r_full, int scale) {
 // get the same bits.
 Status solve_level_in_place(const ImageView& planes, const float* cell_radius, std::size_t row_stride, int scale,
                             double layer_max, const DiffusionOptions& settings, const Exec& exec,
-                            const std::vector<unsigned char>* used = nullptr) {
+                            const FrameBuffer<unsigned char>* used = nullptr) {
     const Roi& box = planes.window;
     const int W = box.width();
     RadiusMap radius(box.npixels());  // every element set below
@@ -193,10 +193,10 @@ Status solve_level_in_place(const ImageView& planes, const float* cell_radius, s
 // The four planes' rows of `box` (row stride `row_stride` from planes[c])
 // into `out`, packed: four planes over box.
 void copy_box(const float* const planes[4], const Roi& box, std::size_t row_stride, const Exec& exec,
-              std::vector<float>& out) {
+              FrameBuffer<float>& out) {
     const std::size_t n = box.npixels();
     const std::size_t W = std::size_t(box.width());
-    out.resize(4 * n);  // a plain vector: new elements are zeroed first (sol and the grids share its type)
+    out.resize(4 * n);  // every element copied below
     parallel_for(exec, box.height(), [&](long r0, long r1) {
         for (long y = r0; y < r1; ++y)
             for (int c = 0; c < 4; ++c)
@@ -207,7 +207,7 @@ void copy_box(const float* const planes[4], const Roi& box, std::size_t row_stri
 // The same on a copy of the box's planes, in `out` (4 planes over box).
 Status solve_level(const float* const planes[4], const float* cell_radius, const Roi& box, std::size_t row_stride,
                    int scale, double layer_max, const DiffusionOptions& settings, const Exec& exec,
-                   std::vector<float>& out) {
+                   FrameBuffer<float>& out) {
     copy_box(planes, box, row_stride, exec, out);
     return solve_level_in_place(ImageView::planar(out.data(), 4, box), cell_radius, row_stride, scale, layer_max, settings, exec);
 }
@@ -261,12 +261,12 @@ std::vector<Taps> axis_taps(int p0, int p1, int scale, int lo, int hi, int blo, 
 // do not darken the blurred pixels beside them. The taps depend only on a
 // pixel's column or row, so they are computed once.
 struct LevelReturn {
-    const std::vector<float>* sol = nullptr;  // 4 planes over box
+    const FrameBuffer<float>* sol = nullptr;  // 4 planes over box
     Roi box;
     std::vector<Taps> cols, rows;   // per pixel column / row of the work region
-    std::vector<float> area;        // kept area over box
+    FrameBuffer<float> area;        // kept area over box (every element copied)
     LevelReturn() = default;
-    LevelReturn(const std::vector<float>& s, const Roi& b, const Grid& level, int scale, const Roi& work)
+    LevelReturn(const FrameBuffer<float>& s, const Roi& b, const Grid& level, int scale, const Roi& work)
         : sol(&s), box(b) {
         if (b.empty()) return;
         cols = axis_taps(work.x0, work.x1, scale, level.win.x0, level.win.x1, b.x0, b.x1);
@@ -360,7 +360,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
         grid.push_back(build_level(src.data(), radius, work, j, box[std::size_t(j)], exec));
     }
-    std::vector<std::vector<float>> sol(std::size_t(levels) + 1);
+    std::vector<FrameBuffer<float>> sol(std::size_t(levels) + 1);
     for (int j = 1; j <= levels; ++j) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
         Grid& g = grid[std::size_t(j)];
@@ -388,7 +388,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
     if (!box0.empty()) {
         if (exec.is_cancelled()) return Status::cancelled("diffusion");
         // The pixels that blend level 0, over its box.
-        std::vector<unsigned char> used(box0.npixels());
+        FrameBuffer<unsigned char> used(box0.npixels());  // every element set below
         parallel_for(exec, box0.height(), [&](long r0, long r1) {
             for (int y = box0.y0 + int(r0); y < box0.y0 + int(r1); ++y)
                 for (int x = box0.x0; x < box0.x1; ++x)
@@ -400,7 +400,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
         if (level0_in_place) {
             st = solve_level_in_place(planes, radius.data(), std::size_t(W), 1, layer_max_radius, settings, exec, &used);
         } else {
-            std::vector<float>& out = sol[0];
+            FrameBuffer<float>& out = sol[0];
             const float* p[4];
             for (int c = 0; c < 4; ++c) p[c] = src[std::size_t(c)] + off;
             copy_box(p, box0, std::size_t(W), exec, out);

@@ -111,6 +111,13 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
     return c;
 }
 
+// A pulled pixel `o` of weight wx blended with the upsampling of its four
+// coarse taps (rows `top` and `bot`, tap weights and their sum t) by 1 - wx.
+inline void blend(float& o, float wx, const float* top, const float* bot, const Tap& vx, const std::array<float, 5>& t) {
+    const float up = (t[0] * top[vx.a] + t[1] * top[vx.b] + t[2] * bot[vx.a] + t[3] * bot[vx.b]) / t[4];
+    o = wx > 0.0f ? wx * o + (1.0f - wx) * up : up;
+}
+
 // Pull: every pixel of a fine level whose weight is below 1 blends its value
 // with the bilinear upsampling of the (filled) coarser level `c` by
 // (1 - weight). Level 0 (`unknown_only`) writes only its unknown pixels
@@ -157,18 +164,17 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
                 t[2] = (1.0f - vx.t) * vy.t * (cw[rb + std::size_t(vx.a)] + kFilledTap);
                 t[3] = vx.t * vy.t * (cw[rb + std::size_t(vx.b)] + kFilledTap);
                 t[4] = t[0] + t[1] + t[2] + t[3];
+                if (nc == 1) {  // one plane (a radius map): no list
+                    blend(out[0][row + std::size_t(x)], wx, c.plane(0) + ra, c.plane(0) + rb, vx, t);
+                    continue;
+                }
                 pulled.push_back(p);
             }
             for (int k = 0; k < nc; ++k) {
                 const float* top = c.plane(k) + ra;
                 const float* bot = c.plane(k) + rb;
                 float* o = out[std::size_t(k)] + row;
-                for (const Pulled& p : pulled) {
-                    const Tap& vx = tx[std::size_t(p.x)];
-                    const std::array<float, 5>& t = p.t;
-                    const float up = (t[0] * top[vx.a] + t[1] * top[vx.b] + t[2] * bot[vx.a] + t[3] * bot[vx.b]) / t[4];
-                    o[p.x] = p.wx > 0.0f ? p.wx * o[p.x] + (1.0f - p.wx) * up : up;
-                }
+                for (const Pulled& p : pulled) blend(o[p.x], p.wx, top, bot, tx[std::size_t(p.x)], p.t);
             }
         }
     }, 16);

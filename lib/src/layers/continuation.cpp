@@ -24,7 +24,7 @@ constexpr double kRecede = 0.002;
 }  // namespace
 
 Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned char>& present,
-                     const std::vector<int>& slice, std::span<const int> owner, int s, int W, int H, const Roi& win,
+                     std::span<const int> slice, std::span<const int> owner, int s, int W, int H, const Roi& win,
                      double continuity, int reach, std::vector<unsigned char>& cont) {
     const std::size_t n = depth.size();
     cont.assign(n, 0);
@@ -90,7 +90,7 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
     return box;
 }
 
-BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
+BackgroundOwners background_owners(std::span<const int> slice, std::span<const int> fg_slice, int nslices,
                                    int W, int H, const Exec& exec, double bound) {
     const std::size_t n = slice.size();
     constexpr float kInf = std::numeric_limits<float>::infinity();

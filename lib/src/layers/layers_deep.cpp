@@ -341,7 +341,7 @@ Status DeepLayers::plan(const ExtendOptions& extend, const Exec& exec) {
             if (plan_.nearest < 0) plan_.nearest = l;
             plan_.farthest = l;
         }
-    plan_.hidden_from.assign(win.npixels(), ExtensionPlan::kNeverHidden);
+    parallel_assign(plan_.hidden_from, win.npixels(), ExtensionPlan::kNeverHidden, std::size_t(win.width()), exec);
     const SamplePlanes s(deep_, ch_);
     const float thr = extend.occluder_alpha;
     const bool ok = for_each_sorted_pixel(deep_, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {

@@ -110,7 +110,7 @@ private:
     PlateSamples ps_;
     std::vector<MixedPixel> mixed_parts_;  // ps_.parts points here
     DepthSlices slices_;
-    std::vector<int> slice_, fg_slice_;  // per pixel; -1: none
+    FrameBuffer<int> slice_, fg_slice_;  // per pixel; -1: none
     std::vector<Roi> box_;               // per slice: its own pixels
     Roi frame_;                          // their union (extensions stay inside)
     std::vector<double> znear_, zfar_;
@@ -229,10 +229,11 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     if (ns >= int(ExtensionPlan::kNeverHidden))
         return Status::error("depth-map layers: " + std::to_string(ns) + " slices (at most " +
                              std::to_string(ExtensionPlan::kNeverHidden - 1) + ")");
-    L->slice_.assign(n, -1);
-    L->fg_slice_.assign(n, -1);
+    L->slice_.resize(n);  // every element written below
+    L->fg_slice_.resize(n);
     parallel_for(exec, H, [&](long y0, long y1) {
         for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
+            L->slice_[i] = L->fg_slice_[i] = -1;
             if (!ps.present[i]) continue;
             L->slice_[i] = L->slices_.slice_of(ps.depth[i]);
             if (const MixedPixel* m = ps.mixed_at(i)) {
@@ -247,7 +248,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     // each with its own extents, merged after (min and max: any order).
     ExtensionPlan& plan = L->plan_;
     plan.frame = win;
-    plan.hidden_from.assign(n, ExtensionPlan::kNeverHidden);
+    parallel_assign(plan.hidden_from, n, ExtensionPlan::kNeverHidden, std::size_t(W), exec);
     constexpr int kBand = 32;
     const int nbands = (H + kBand - 1) / kBand;
     struct Extent {

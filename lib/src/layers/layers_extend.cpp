@@ -85,7 +85,7 @@ Result<ExtensionPlan> plan_extension(const std::vector<Layer>& layers, const Roi
             plan.farthest = s;
         }
     const std::size_t n = frame.npixels();
-    plan.hidden_from.assign(n, ExtensionPlan::kNeverHidden);
+    parallel_assign(plan.hidden_from, n, ExtensionPlan::kNeverHidden, std::size_t(frame.width()), exec);
     std::vector<float> occ(n, 0.0f);
     FrameBuffer<float> alpha;
     FrameBuffer<unsigned char> own;

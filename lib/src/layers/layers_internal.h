@@ -53,7 +53,7 @@ DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split
 // depth; returns their bounding box (absolute coordinates, `win` the
 // image's window).
 Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned char>& present,
-                     const std::vector<int>& slice, std::span<const int> owner, int s, int width, int height,
+                     std::span<const int> slice, std::span<const int> owner, int s, int width, int height,
                      const Roi& win, double continuity, int reach, std::vector<unsigned char>& cont);
 
 // Which slice continues or extends behind each pixel: among the slices behind
@@ -71,7 +71,7 @@ struct BackgroundOwners {
     FrameBuffer<int> owner;
     FrameBuffer<float> distance;
 };
-BackgroundOwners background_owners(const std::vector<int>& slice, const std::vector<int>& fg_slice, int nslices,
+BackgroundOwners background_owners(std::span<const int> slice, std::span<const int> fg_slice, int nslices,
                                    int width, int height, const Exec& exec = {},
                                    double bound = std::numeric_limits<double>::infinity());
 
@@ -87,7 +87,7 @@ struct ExtensionPlan {
     static constexpr std::uint16_t kNeverHidden = 0xffff;
     Roi frame;
     int nearest = -1, farthest = -1;  // non-empty layers
-    std::vector<std::uint16_t> hidden_from;  // per frame pixel, row-major
+    FrameBuffer<std::uint16_t> hidden_from;  // per frame pixel, row-major
 };
 // The plan of a list of layers (their own coverage, before any extension).
 Result<ExtensionPlan> plan_extension(const std::vector<Layer>& front_to_back, const Roi& frame,
