@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "plate/plate_internal.h"
 
@@ -22,6 +24,11 @@ namespace gdof::plate_detail {
 std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity,
                                             const Exec& exec) {
     std::vector<unsigned char> cand(depth.size(), 0);
+    // A candidate's two sides differ by more than continuity^2 in 1 / depth,
+    // so its 3x3 depths (finite ones) do too: a pixel whose 3x3 spans less
+    // (most of a plate) is skipped without the divisions below. The margin
+    // covers their rounding.
+    const double flat_span = continuity * continuity * 0.999;
     // 1 / depth at (x, y); NaN outside the image or without a finite depth.
     auto inv = [&](int x, int y) {
         if (x < 0 || x >= W || y < 0 || y >= H) return std::numeric_limits<double>::quiet_NaN();
@@ -34,6 +41,15 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
         for (int x = 0; x < W; ++x) {
             const double d = inv(x, y);
             if (std::isnan(d)) continue;
+            float near = std::numeric_limits<float>::infinity(), far = 0.0f;
+            for (int yy = std::max(0, y - 1); yy <= std::min(H - 1, y + 1); ++yy)
+                for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
+                    const float q = depth[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
+                    if (!std::isfinite(q)) continue;
+                    near = std::min(near, q);
+                    far = std::max(far, q);
+                }
+            if (double(far) <= double(near) * flat_span) continue;
             for (const auto& dir : dirs) {
                 // Along a line through the pixel: one side nearer, the other
                 // farther, each by more than `continuity` (sky and holes have
@@ -105,7 +121,10 @@ constexpr double kRamp = 1.5;
 }  // namespace
 
 std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec) {
-    const std::vector<float> d0 = depth;  // decisions read the depths as measured
+    // Decisions read the depths as measured: the changes (few) are listed
+    // per row and written after.
+    const std::vector<float>& d0 = depth;
+    std::vector<std::vector<std::pair<std::size_t, float>>> row_changes(static_cast<std::size_t>(H));
     // The nearest and farthest depth of the (2r+1)^2 window around (x, y),
     // from (near, far) on (sky is farthest; holes do not count).
     auto window = [&](int x, int y, int r, float& near, float& far) {
@@ -117,7 +136,6 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
                 far = std::max(far, q);
             }
     };
-    std::vector<std::size_t> row_count(std::size_t(H), 0);
     parallel_for(exec, H, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x) {
@@ -136,12 +154,14 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
                     window(x, y, 2, near5, far5);
                     if (std::log(double(far5) / double(near5)) > kRamp * std::log(double(far) / double(near))) continue;
                 }
-                depth[i] = near;
-                ++row_count[std::size_t(y)];
+                row_changes[std::size_t(y)].push_back({i, near});
             }
     }, 16);
     std::size_t n = 0;
-    for (std::size_t c : row_count) n += c;
+    for (const auto& row : row_changes) {
+        for (const auto& [i, near] : row) depth[i] = near;
+        n += row.size();
+    }
     return n;
 }
 

@@ -19,15 +19,11 @@ namespace gdof::plate_detail {
 
 namespace {
 
+// Union-find over the pixels. parent and size are set by the first pass
+// (each row's runs); size is meaningful at roots only.
 struct UnionFind {
     FrameBuffer<int> parent, size;
-    UnionFind(std::size_t n, std::size_t width, const Exec& exec) : parent(n) {
-        parallel_assign(size, n, 1, width, exec);
-        const std::size_t w = std::max<std::size_t>(1, width);
-        parallel_for(exec, long((n + w - 1) / w), [&](long r0, long r1) {
-            for (std::size_t i = std::size_t(r0) * w; i < std::min(n, std::size_t(r1) * w); ++i) parent[i] = int(i);
-        }, 64);
-    }
+    explicit UnionFind(std::size_t n) : parent(n), size(n) {}
     int find(int i) {
         while (parent[std::size_t(i)] != i) {
             parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
@@ -49,18 +45,55 @@ struct UnionFind {
 std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double continuity, int max_px,
                             const std::vector<unsigned char>& keep, const Exec& exec) {
     const std::size_t n = depth.size();
-    UnionFind uf(n, std::size_t(W), exec);
+    UnionFind uf(n);
     // Components in bands of rows, in parallel: a band's joins touch only its
     // own pixels, so the bands' union-find trees are disjoint; the rows
     // between bands are joined after, one band edge at a time. The
     // components (and so what is removed) do not depend on the order.
+    // Within a band each row's runs of continuous pixels are one tree at
+    // once (parent: the run's first pixel), then joined to the row above
+    // through the three lower neighbours; a join between the same two runs
+    // as the one before is skipped (already joined).
     constexpr int kBand = 64;
     const int nbands = (H + kBand - 1) / kBand;
+    auto runs = [&](int y, std::vector<int>& run) {
+        const int r = y * W;
+        int start = r;
+        for (int x = 0; x < W; ++x) {
+            const int i = r + x;
+            if (x > 0 && continuous(depth[std::size_t(i - 1)], depth[std::size_t(i)], continuity)) {
+                uf.parent[std::size_t(i)] = start;
+                ++uf.size[std::size_t(start)];
+            } else {
+                start = i;
+                uf.parent[std::size_t(i)] = i;
+                uf.size[std::size_t(i)] = 1;
+            }
+            run[std::size_t(x)] = start;
+        }
+    };
+    // Row y - 1 to row y (runs `up` and `cur`): below-left, below, below-right.
+    auto join_rows = [&](int y, const std::vector<int>& up, const std::vector<int>& cur) {
+        const int ru = (y - 1) * W, r = y * W;
+        int last_a = -1, last_b = -1;  // the runs of the last join
+        for (int x = 0; x < W; ++x) {
+            const float d = depth[std::size_t(ru + x)];
+            if (std::isnan(d)) continue;
+            for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
+                if (!continuous(d, depth[std::size_t(r + xx)], continuity)) continue;
+                const int a = up[std::size_t(x)], b = cur[std::size_t(xx)];
+                if (a == last_a && b == last_b) continue;
+                uf.join(a, b);
+                last_a = a, last_b = b;
+            }
+        }
+    };
+    // The rows between bands: every forward neighbour of row y (right and
+    // the three below), pixel by pixel.
     auto join_forward = [&](int x, int y, int ylimit) {
         const int i = y * W + x;
         const float d = depth[std::size_t(i)];
         if (std::isnan(d)) return;
-        // Forward neighbours only: right, below-left, below, below-right.
         const int nb[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
         for (const auto& o : nb) {
             const int xx = x + o[0], yy = y + o[1];
@@ -70,10 +103,14 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
         }
     };
     parallel_for(exec, nbands, [&](long b0, long b1) {
+        std::vector<int> up(static_cast<std::size_t>(W)), cur(static_cast<std::size_t>(W));
         for (long b = b0; b < b1; ++b) {
             const int y0 = int(b) * kBand, y1 = std::min(H, y0 + kBand);
-            for (int y = y0; y < y1; ++y)
-                for (int x = 0; x < W; ++x) join_forward(x, y, y1);
+            for (int y = y0; y < y1; ++y) {
+                runs(y, cur);
+                if (y > y0) join_rows(y, up, cur);
+                std::swap(up, cur);
+            }
         }
     });
     for (int b = 1; b < nbands; ++b)
