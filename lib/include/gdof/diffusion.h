@@ -39,7 +39,7 @@ struct DiffusionOptions {
     // blur within 1% relative L2 of the analytic Gaussian.
     int adi_steps = 0;
     // Explicit: iterations = ceil(safety * 10/3 * D_max); 1 is the stability limit.
-    double explicit_safety = 1.25;
+    double explicit_safety = 1.0;
     // Radii above this are an error (naming the value); radii are clamped to >= 0.
     double max_radius = 4096.0;
     // defocus(): solve each pixel's blur on the pyramid level where it is
@@ -61,10 +61,10 @@ GDOF_API int adi_steps_for(double max_radius_px, const DiffusionOptions& setting
 // The run time of one ADI sub-step (an x and a y sweep) in explicit
 // iterations; both scale with the pixel count, so the ratio holds at any
 // size. Measured by tests/bench/bench_solvers (docs/diffusion.md, "auto").
-inline constexpr double kAdiStepCost = 2.0;
+inline constexpr double kAdiStepCost = 12.0;
 // The solver that runs for a largest radius: settings.solver unless it is
 // Auto; then explicit when explicit_iterations <= kAdiStepCost * adi steps
-// (with the default settings: R <= 15.6 px), else ADI. Both give the same
+// (with the default settings: R <= 42.9 px), else ADI. Both give the same
 // Gaussian within 1% relative L2, so the choice only changes the run time.
 GDOF_API DiffusionSolver choose_solver(double max_radius_px, const DiffusionOptions& settings);
 

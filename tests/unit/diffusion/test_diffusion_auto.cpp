@@ -42,16 +42,17 @@ std::array<std::vector<float>, 2> diffused(int w, int h, float radius, Diffusion
 TEST(diffusion_auto, CostModelPicksTheCheaperSolver) {
     DiffusionOptions s;  // the default is Auto
     ASSERT_EQ(s.solver, DiffusionSolver::Auto);
-    for (double R : {0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 15.5, 15.7, 17.0, 18.0, 30.0, 200.0}) {
+    for (double R : {0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 15.5, 15.7, 30.0, 42.9, 43.0, 60.0, 200.0}) {
         const bool explicit_cheaper = explicit_iterations(R, s) <= kAdiStepCost * adi_steps_for(R, s);
         EXPECT_EQ(choose_solver(R, s), explicit_cheaper ? DiffusionSolver::Explicit : DiffusionSolver::Adi) << R;
     }
-    // The documented crossover with default settings: explicit up to 15.6 px.
-    EXPECT_EQ(choose_solver(15.6, s), DiffusionSolver::Explicit);
-    EXPECT_EQ(choose_solver(15.7, s), DiffusionSolver::Adi);
-    // Fewer ADI steps make ADI cheaper: at 5 px (14 iterations vs 4 steps).
+    // The documented crossover with default settings: explicit up to 42.9 px
+    // (ceil(5/12 R^2) = 767 iterations against 64 ADI steps at a cost of 12).
+    EXPECT_EQ(choose_solver(42.9, s), DiffusionSolver::Explicit);
+    EXPECT_EQ(choose_solver(43.0, s), DiffusionSolver::Adi);
+    // Fewer ADI steps make ADI cheaper: at 12 px (60 iterations vs 4 steps).
     s.adi_steps = 4;
-    EXPECT_EQ(choose_solver(5.0, s), DiffusionSolver::Adi);
+    EXPECT_EQ(choose_solver(12.0, s), DiffusionSolver::Adi);
     // A fixed solver is never overridden.
     s.solver = DiffusionSolver::Explicit;
     EXPECT_EQ(choose_solver(200.0, s), DiffusionSolver::Explicit);
@@ -68,23 +69,23 @@ TEST(diffusion_auto, RunsExactlyTheChosenSolver) {
     i.solver = DiffusionSolver::Adi;
     // Small blur: explicit; large: ADI. The pair differs by more than rounding,
     // so equality shows which one ran.
-    for (float R : {3.0f, 25.0f}) {
+    for (float R : {3.0f, 50.0f}) {
         const auto got = diffused(W, H, R, a), ex = diffused(W, H, R, e), ad = diffused(W, H, R, i);
         ASSERT_NE(ex, ad) << R;
-        EXPECT_EQ(got, R < 15.6f ? ex : ad) << R;
+        EXPECT_EQ(got, R < 42.9f ? ex : ad) << R;
     }
 }
 
 TEST(diffusion_auto, EachLayerChoosesByItsOwnBlur) {
     const Roi display{0, 0, 200, 120};
-    // Foreground over x < 100 at 3 px; the background reaches 30 px on the right.
+    // Foreground over x < 100 at 3 px; the background reaches 50 px on the right.
     Layer fg = make_layer(Roi{20, 20, 90, 100}, display, [](int x, int y) {
         return Rgba{texture(x, y, 0), texture(x, y, 1), 0.3f, 1.0f};
     }, 2.0, "fg");
     Layer bg = make_layer(display, display, [](int x, int y) {
         return Rgba{texture(x, y, 2), 0.5f, texture(x, y + 3, 0), 1.0f};
     }, 8.0, "bg");
-    const BlurField field = map_field(display, [](int x, int) { return x < 100 ? 3.0f : 30.0f; });
+    const BlurField field = map_field(display, [](int x, int) { return x < 100 ? 3.0f : 50.0f; });
     auto render = [&](DiffusionSolver solver, DefocusStats* st) {
         DefocusOptions s;
         s.diffusion.solver = solver;
