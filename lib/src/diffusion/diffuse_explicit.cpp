@@ -149,10 +149,6 @@ void step_row(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const f
 // step_row's, lane by lane in vectors of 8 (the same operations in the same
 // order: the same bits), with the links loaded once for the four.
 typedef float Vec8 __attribute__((vector_size(32)));
-// The default clone passes Vec8 in memory between inlined pieces: no ABI is
-// crossed (everything here is internal), so GCC's note on it is silenced.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 GDOF_CLONES
 void step_row4(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const std::array<const float*, 4>& um,
@@ -167,30 +163,42 @@ void step_row4(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const 
     const float* cs_n = n.cs;
     const float* cse_n = n.cse;
     const float* csw_n = n.csw;
-    // Unaligned 8-float loads and stores, inlined in each clone.
-    auto load8 = [](const float* p) {
-        Vec8 v;
-        std::memcpy(&v, p, sizeof v);
-        return v;
-    };
+    // Unaligned 8-float loads and stores by memcpy into locals: no function
+    // takes or returns a vector (in the default clone that would cross an ABI
+    // without AVX, which clang rejects).
+    constexpr std::size_t k8 = sizeof(Vec8);
     int x = in.first;
     for (; x + 8 <= in.second; x += 8) {
-        const Vec8 ke = load8(ce_r + x), kw = load8(ce_r + x - 1), ks = load8(cs_r + x), kse = load8(cse_r + x),
-                   ksw = load8(csw_r + x), kn = load8(cs_n + x), knw = load8(cse_n + x - 1), kne = load8(csw_n + x + 1);
+        Vec8 ke, kw, ks, kse, ksw, kn, knw, kne;
+        std::memcpy(&ke, ce_r + x, k8);
+        std::memcpy(&kw, ce_r + x - 1, k8);
+        std::memcpy(&ks, cs_r + x, k8);
+        std::memcpy(&kse, cse_r + x, k8);
+        std::memcpy(&ksw, csw_r + x, k8);
+        std::memcpy(&kn, cs_n + x, k8);
+        std::memcpy(&knw, cse_n + x - 1, k8);
+        std::memcpy(&kne, csw_n + x + 1, k8);
         for (int p = 0; p < 4; ++p) {
             const float *m = um[std::size_t(p)], *a = u0[std::size_t(p)], *b = us[std::size_t(p)];
-            const Vec8 up = load8(a + x);
-            const Vec8 acc = ke * (load8(a + x + 1) - up) + kw * (load8(a + x - 1) - up) + ks * (load8(b + x) - up) +
-                             kse * (load8(b + x + 1) - up) + ksw * (load8(b + x - 1) - up) + kn * (load8(m + x) - up) +
-                             knw * (load8(m + x - 1) - up) + kne * (load8(m + x + 1) - up);
+            Vec8 up, e, w, s, se, sw, nn, nw, ne;
+            std::memcpy(&up, a + x, k8);
+            std::memcpy(&e, a + x + 1, k8);
+            std::memcpy(&w, a + x - 1, k8);
+            std::memcpy(&s, b + x, k8);
+            std::memcpy(&se, b + x + 1, k8);
+            std::memcpy(&sw, b + x - 1, k8);
+            std::memcpy(&nn, m + x, k8);
+            std::memcpy(&nw, m + x - 1, k8);
+            std::memcpy(&ne, m + x + 1, k8);
+            const Vec8 acc = ke * (e - up) + kw * (w - up) + ks * (s - up) + kse * (se - up) + ksw * (sw - up) +
+                             kn * (nn - up) + knw * (nw - up) + kne * (ne - up);
             const Vec8 r = up + acc;
-            std::memcpy(out[std::size_t(p)] + x, &r, sizeof r);
+            std::memcpy(out[std::size_t(p)] + x, &r, k8);
         }
     }
     for (; x < in.second; ++x)
         for (int p = 0; p < 4; ++p) out[std::size_t(p)][x] = GDOF_STENCIL(um[std::size_t(p)], u0[std::size_t(p)], us[std::size_t(p)], x);
 }
-#pragma GCC diagnostic pop
 #undef GDOF_STENCIL
 #undef GDOF_CLONES
 
