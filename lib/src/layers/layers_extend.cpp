@@ -28,16 +28,12 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
     parallel_for(exec, work.height(), [&](long r0, long r1) {
         for (int y = work.y0 + int(r0); y < work.y0 + int(r1); ++y) {
             const std::size_t row = std::size_t(y - work.y0) * ww;
-            const bool in_w = !w.empty() && y >= w.y0 && y < w.y1;
-            const std::size_t xa = in_w ? std::size_t(w.x0 - work.x0) : ww, xb = in_w ? std::size_t(w.x1 - work.x0) : ww;
-            std::fill(own.begin() + std::ptrdiff_t(row), own.begin() + std::ptrdiff_t(row + xa), 0);
-            std::fill(alpha.begin() + std::ptrdiff_t(row), alpha.begin() + std::ptrdiff_t(row + xa), 0.0f);
-            std::fill(own.begin() + std::ptrdiff_t(row + xb), own.begin() + std::ptrdiff_t(row + ww), 0);
-            std::fill(alpha.begin() + std::ptrdiff_t(row + xb), alpha.begin() + std::ptrdiff_t(row + ww), 0.0f);
-            if (!in_w) continue;
+            std::fill_n(own.data() + row, ww, 0);
+            std::fill_n(alpha.data() + row, ww, 0.0f);
+            if (w.empty() || y < w.y0 || y >= w.y1) continue;
             const std::size_t o = img.offset(w.x0, y);
             const float *R = img.plane(0) + o, *G = img.plane(1) + o, *B = img.plane(2) + o, *A = img.plane(3) + o;
-            const std::size_t i0 = row + xa;
+            const std::size_t i0 = row + std::size_t(w.x0 - work.x0);
             for (int x = 0; x < w.width(); ++x) {
                 const float a = A[x];
                 const bool present = covers(R[x], G[x], B[x], a);

@@ -123,14 +123,13 @@ constexpr double kRamp = 1.5;
 std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec) {
     // Decisions read the depths as measured: the changes (few) are listed
     // per row and written after.
-    const std::vector<float>& d0 = depth;
     std::vector<std::vector<std::pair<std::size_t, float>>> row_changes(static_cast<std::size_t>(H));
     // The nearest and farthest depth of the (2r+1)^2 window around (x, y),
     // from (near, far) on (sky is farthest; holes do not count).
     auto window = [&](int x, int y, int r, float& near, float& far) {
         for (int yy = std::max(0, y - r); yy <= std::min(H - 1, y + r); ++yy)
             for (int xx = std::max(0, x - r); xx <= std::min(W - 1, x + r); ++xx) {
-                const float q = d0[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
+                const float q = depth[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
                 if (std::isnan(q)) continue;
                 near = std::min(near, q);
                 far = std::max(far, q);
@@ -140,7 +139,7 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-                const float d = d0[i];
+                const float d = depth[i];
                 if (!std::isfinite(d)) continue;
                 float near = d, far = d;
                 window(x, y, 1, near, far);

@@ -88,17 +88,15 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
             }
         }
     };
-    // The rows between bands: every forward neighbour of row y (right and
-    // the three below), pixel by pixel.
-    auto join_forward = [&](int x, int y, int ylimit) {
+    // The rows between bands (y the last of a band, y + 1 the first of the
+    // next): a pixel's three lower neighbours (its right neighbour is in its
+    // own run already).
+    auto join_below = [&](int x, int y) {
         const int i = y * W + x;
         const float d = depth[std::size_t(i)];
         if (std::isnan(d)) return;
-        const int nb[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-        for (const auto& o : nb) {
-            const int xx = x + o[0], yy = y + o[1];
-            if (xx < 0 || xx >= W || yy >= ylimit) continue;
-            const int j = yy * W + xx;
+        for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
+            const int j = (y + 1) * W + xx;
             if (continuous(d, depth[std::size_t(j)], continuity)) uf.join(i, j);
         }
     };
@@ -114,7 +112,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
         }
     });
     for (int b = 1; b < nbands; ++b)
-        for (int x = 0; x < W; ++x) join_forward(x, b * kBand - 1, std::min(H, b * kBand + 1));
+        for (int x = 0; x < W; ++x) join_below(x, b * kBand - 1);
     // Roots without path compression (reads only, so in parallel).
     FrameBuffer<int> root(n);  // every element set below
     parallel_for(exec, H, [&](long y0, long y1) {
