@@ -101,8 +101,8 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
     BackgroundOwners out;
-    parallel_assign(out.owner, n, -1, std::size_t(W), exec);
-    parallel_assign(out.distance, n, kInf, std::size_t(W), exec);
+    out.owner.resize(n);  // every element written at the end
+    out.distance.resize(n);
     FrameBuffer<int> best_k;
     parallel_assign(best_k, n, -1, std::size_t(W), exec);
     FrameBuffer<float> best, dist;
@@ -160,27 +160,21 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
     } else {
         parallel_assign(best, n, kInf, std::size_t(W), exec);
     }
-    // Back to front: before slice k's distances join, `best` holds the
-    // nearest of the slices behind k, which is what k's pixels need. The
-    // nearest slice's own distances would serve no pixel: not computed.
-    int behind = -1;  // the farthest non-empty slice behind k
-    for (int k = nslices - 1; k >= 0; --k) {
-        const int fallback = bounded ? behind : -1;
-        const Roi& own = box[std::size_t(k)];  // every pixel whose front is k
-        parallel_for(exec, own.height(), [&](long r0, long r1) {
-            for (int y = own.y0 + int(r0); y < own.y0 + int(r1); ++y)
-                for (std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(own.x0);
-                     i < std::size_t(y) * std::size_t(W) + std::size_t(own.x1); ++i)
-                    if (front(i) == k) {
-                        // Beyond every slice's bound the farthest fills (the
-                        // extension's farthest_fills_frame): any owner >= 0 says so.
-                        const bool near = best_k[i] >= 0;
-                        out.owner[i] = near ? best_k[i] : fallback;
-                        out.distance[i] = near ? best[i] : kInf;
-                    }
-        }, 16);
-        if (k == 0 || own.empty()) continue;
-        if (behind < 0) behind = k;
+    // Back to front, each slice's distances join only at the pixels in front
+    // of it: then `best` at a pixel is the nearest of the slices behind its
+    // front, which is what it needs. The nearest slice's own distances would
+    // serve no pixel: not computed.
+    FrameBuffer<int> front_of(n);  // every element written
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
+            front_of[i] = front(i);
+    }, 16);
+    int farthest = -1;  // the farthest non-empty slice
+    for (int k = nslices - 1; k >= 0 && farthest < 0; --k)
+        if (!box[std::size_t(k)].empty()) farthest = k;
+    for (int k = nslices - 1; k >= 1; --k) {
+        const Roi& own = box[std::size_t(k)];
+        if (own.empty()) continue;
         // The distances to slice k over its box grown by the bound (all of
         // the frame when unbounded): exact there, beyond the bound outside.
         const Roi win = bounded ? intersect(own.grown(grow), frame) : frame;
@@ -193,19 +187,29 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                 for (int x = 0; x < ww; ++x) m[x] = slice[src + std::size_t(x)] == k || fg_slice[src + std::size_t(x)] == k;
             }
         }, 16);
-        distance_transform(mask, ww, wh, dist, exec);
+        distance_transform(mask, ww, wh, dist, exec, bounded ? bound : kInf);
         parallel_for(exec, wh, [&](long r0, long r1) {
             for (long r = r0; r < r1; ++r) {
                 const std::size_t src = std::size_t(win.y0 + r) * std::size_t(W) + std::size_t(win.x0);
                 const float* d = dist.data() + std::size_t(r) * std::size_t(ww);
                 for (int x = 0; x < ww; ++x) {
                     const std::size_t i = src + std::size_t(x);
-                    if (bounded && !(d[x] <= bound)) continue;
+                    if (front_of[i] >= k || (bounded && !(d[x] <= bound))) continue;
                     if (d[x] <= best[i]) best[i] = d[x], best_k[i] = k;  // ties: the nearer slice
                 }
             }
         }, 16);
     }
+    // Beyond every slice's bound the farthest fills (the extension's
+    // farthest_fills_frame): any owner >= 0 says so.
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
+            const int f = front_of[i];
+            const bool near = f >= 0 && best_k[i] >= 0;
+            out.owner[i] = near ? best_k[i] : bounded && f >= 0 && f < farthest ? farthest : -1;
+            out.distance[i] = near ? best[i] : kInf;
+        }
+    }, 16);
     return out;
 }
 

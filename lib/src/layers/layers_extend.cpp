@@ -132,7 +132,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // distances are given, nor when the layer fills the frame).
     const bool with_owner_distance = !opt.owner.empty() && !opt.owner_distance.empty();
     FrameBuffer<float> dist;
-    if (!fills_frame && !with_owner_distance) distance_transform(own, ww, wh, dist, exec);
+    if (!fills_frame && !with_owner_distance) distance_transform(own, ww, wh, dist, exec, opt.extend_px);
     FrameBuffer<unsigned char> ext(wn), seen_empty(wn);  // every element written below
     // Rows marked in parallel, each with its own span of extension; the
     // union is taken after, in row order.

@@ -120,7 +120,8 @@ double median_finite(std::vector<float> values);
 
 // Exact Euclidean distance transform: out[i] = distance from pixel i to the
 // nearest pixel with mask != 0 (+inf if none). Row-major width x height.
+// With a finite `bound`, distances above it are +inf (and cost less).
 void distance_transform(std::span<const unsigned char> mask, int width, int height, FrameBuffer<float>& out,
-                        const Exec& exec = {});
+                        const Exec& exec = {}, double bound = std::numeric_limits<double>::infinity());
 
 }  // namespace gdof::layers_detail

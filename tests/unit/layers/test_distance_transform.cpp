@@ -64,6 +64,36 @@ TEST(distance_transform, EmptyFullAndSinglePixel) {
     expect_exact(mask, W, H, 2);
 }
 
+// Masks of runs (a big slice's rows are long runs of set pixels, whose inner
+// pixels the row pass skips), with and without a bound: within the bound
+// exact, beyond it +inf.
+TEST(distance_transform, RunsAndBoundsAreExact) {
+    std::mt19937 rng(13);
+    for (int trial = 0; trial < 40; ++trial) {
+        const int W = 1 + int(rng() % 200), H = 1 + int(rng() % 60);
+        std::vector<unsigned char> mask(std::size_t(W) * H, 0);
+        const int nrect = int(rng() % 5);
+        for (int k = 0; k < nrect; ++k) {
+            const int x0 = int(rng() % W), y0 = int(rng() % H);
+            const int x1 = std::min(W, x0 + 1 + int(rng() % 80)), y1 = std::min(H, y0 + 1 + int(rng() % 30));
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) mask[std::size_t(y) * W + x] = 1;
+        }
+        if (trial % 3 == 0) mask[std::size_t(rng() % H) * W + rng() % W] = 1;
+        const std::vector<float> exact = brute_force(mask, W, H);
+        for (double bound : {std::numeric_limits<double>::infinity(), 0.0, 1.0, 2.5, 7.0, 23.4}) {
+            FrameBuffer<float> got;
+            Exec exec;
+            exec.nthreads = 1 + trial % 2;
+            distance_transform(mask, W, H, got, exec, bound);
+            for (std::size_t i = 0; i < exact.size(); ++i) {
+                const float want = double(exact[i]) <= bound ? exact[i] : std::numeric_limits<float>::infinity();
+                ASSERT_EQ(got[i], want) << "bound " << bound << ", pixel " << i % W << ", " << i / W;
+            }
+        }
+    }
+}
+
 TEST(distance_transform, SameBitsForAnyThreadCount) {
     const int W = 1031, H = 517;
     std::mt19937 rng(11);
