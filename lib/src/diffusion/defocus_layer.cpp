@@ -27,13 +27,25 @@ Status check_finite_colour(const Image& img, const RgbaIndices& rgba, const std:
     const int w = win.width();
     const int chans[4] = {rgba.r, rgba.g, rgba.b, rgba.a};
     return parallel_run(exec, win.height(), [&](long y0, long y1) {
-        for (long y = y0; y < y1; ++y)
+        for (long y = y0; y < y1; ++y) {
+            // A whole row's planes first (a reduction the compiler vectorises),
+            // then, only if one is not finite, the first bad pixel in order.
+            bool finite = true;
+            for (int c = 0; c < 4; ++c) {
+                if (chans[c] < 0) continue;
+                const float* row = img.plane(chans[c]) + std::size_t(y) * std::size_t(w);
+                bool ok = true;
+                for (int x = 0; x < w; ++x) ok &= std::abs(row[x]) <= std::numeric_limits<float>::max();
+                finite = finite && ok;
+            }
+            if (finite) continue;
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 4; ++c) {
                     if (chans[c] < 0) continue;
                     const float v = img.plane(chans[c])[std::size_t(y) * std::size_t(w) + std::size_t(x)];
                     if (!std::isfinite(v)) return non_finite_colour(where, c, v, win.x0 + x, win.y0 + int(y));
                 }
+        }
         return Status::ok();
     }, 16);
 }

@@ -100,12 +100,16 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
     // Emptiness (no sample at all: a render's transparent sky) is the
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
+    // Per pixel: its front slice + 1 (0: none; at most 65535 slices, as the
+    // extension plan), and the nearest slice behind the front so far, at
+    // its distance: the owner and distance being found, set in the pass below.
     BackgroundOwners out;
-    out.owner.resize(n);  // every element written at the end
-    out.distance.resize(n);
-    FrameBuffer<int> best_k;
-    parallel_assign(best_k, n, -1, std::size_t(W), exec);
-    FrameBuffer<float> best, dist;
+    FrameBuffer<int>& best_k = out.owner;
+    FrameBuffer<float>& best = out.distance;
+    best_k.resize(n);
+    best.resize(n);
+    FrameBuffer<std::uint16_t> front_of(n);
+    FrameBuffer<float> dist;
     FrameBuffer<unsigned char> mask;  // every element written before each use
     // Each slice's box (its own pixels, where slice or fg_slice is k), and
     // whether anything is empty, in one pass over bands of rows.
@@ -125,6 +129,9 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                 const std::size_t r = std::size_t(y) * std::size_t(W);
                 for (int x = 0; x < W; ++x) {
                     const int a = slice[r + std::size_t(x)], f = fg_slice[r + std::size_t(x)];
+                    front_of[r + std::size_t(x)] = std::uint16_t(front(r + std::size_t(x)) + 1);
+                    best_k[r + std::size_t(x)] = -1;
+                    best[r + std::size_t(x)] = kInf;
                     if (a < 0) band_empty[std::size_t(b)] = 1;
                     for (int k : {a, f})
                         if (k >= 0 && k < nslices) {
@@ -157,18 +164,11 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                 mask[i] = slice[i] < 0;
         }, 16);
         distance_transform(mask, W, H, best, exec);
-    } else {
-        parallel_assign(best, n, kInf, std::size_t(W), exec);
     }
     // Back to front, each slice's distances join only at the pixels in front
     // of it: then `best` at a pixel is the nearest of the slices behind its
     // front, which is what it needs. The nearest slice's own distances would
     // serve no pixel: not computed.
-    FrameBuffer<int> front_of(n);  // every element written
-    parallel_for(exec, H, [&](long y0, long y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i)
-            front_of[i] = front(i);
-    }, 16);
     int farthest = -1;  // the farthest non-empty slice
     for (int k = nslices - 1; k >= 0 && farthest < 0; --k)
         if (!box[std::size_t(k)].empty()) farthest = k;
@@ -194,20 +194,21 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                 const float* d = dist.data() + std::size_t(r) * std::size_t(ww);
                 for (int x = 0; x < ww; ++x) {
                     const std::size_t i = src + std::size_t(x);
-                    if (front_of[i] >= k || (bounded && !(d[x] <= bound))) continue;
+                    if (front_of[i] > k || (bounded && !(d[x] <= bound))) continue;
                     if (d[x] <= best[i]) best[i] = d[x], best_k[i] = k;  // ties: the nearer slice
                 }
             }
         }, 16);
     }
     // Beyond every slice's bound the farthest fills (the extension's
-    // farthest_fills_frame): any owner >= 0 says so.
+    // farthest_fills_frame): any owner >= 0 says so. No owner where there is
+    // no sample, nor a distance without an owner (emptiness).
     parallel_for(exec, H, [&](long y0, long y1) {
         for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
-            const int f = front_of[i];
-            const bool near = f >= 0 && best_k[i] >= 0;
-            out.owner[i] = near ? best_k[i] : bounded && f >= 0 && f < farthest ? farthest : -1;
-            out.distance[i] = near ? best[i] : kInf;
+            const int f = int(front_of[i]) - 1;
+            if (f >= 0 && best_k[i] >= 0) continue;
+            best_k[i] = bounded && f >= 0 && f < farthest ? farthest : -1;
+            best[i] = kInf;
         }
     }, 16);
     return out;

@@ -86,11 +86,6 @@ Result<LayerSplit> parse_layer_split(const std::string& text) {
 
 namespace layers_detail {
 
-int DepthSlices::slice_of(double depth) const {
-    if (std::isnan(depth)) return count() - 1;
-    return int(std::upper_bound(bounds.begin(), bounds.end(), depth) - bounds.begin());
-}
-
 std::string depth_range_name(double near, double far) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "depth %.4g-%.4g", near, far);

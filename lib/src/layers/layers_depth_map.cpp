@@ -187,7 +187,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
 
     // Slices over every sample.
     std::vector<float> sample_depths, sample_radii;
-    const bool radii = !options.radius.empty();
+    const bool radii = !options.radius.empty() && options.split.mode == LayerSplit::Mode::Auto;  // only auto cuts by blur
     {
         // Rows in parallel: each row's sample count, then its samples at
         // its offset (the order of a serial pass).

@@ -2,6 +2,8 @@
 // and small helpers. Not installed.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -25,7 +27,15 @@ struct DepthSlices {
     // Auto: the clusters' sample ranges).
     std::vector<double> lo, hi;
     int count() const { return int(bounds.size()) + 1; }
-    int slice_of(double depth) const;
+    // The number of bounds <= depth (NaN: the last slice). Inline and, for
+    // the usual few bounds, a branchless count: it runs for every pixel.
+    int slice_of(double depth) const {
+        if (std::isnan(depth)) return count() - 1;
+        if (bounds.size() > 16) return int(std::upper_bound(bounds.begin(), bounds.end(), depth) - bounds.begin());
+        int k = 0;
+        for (double b : bounds) k += b <= depth ? 1 : 0;
+        return k;
+    }
 };
 
 // Auto clustering: gaps in log depth.
@@ -66,7 +76,8 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
 // bound): a pixel no slice behind it reaches within the bound gets the
 // farthest non-empty slice behind it and distance +inf. So the owners and
 // distances are those of the unbounded call wherever the distance is within
-// the bound, and the owner is >= 0 exactly where it is.
+// the bound, and the owner is >= 0 exactly where it is. At most 65534
+// slices (as ExtensionPlan).
 struct BackgroundOwners {
     FrameBuffer<int> owner;
     FrameBuffer<float> distance;

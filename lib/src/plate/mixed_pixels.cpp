@@ -36,20 +36,48 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
         return std::isfinite(q) ? 1.0 / double(q) : std::numeric_limits<double>::quiet_NaN();
     };
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-    parallel_for(exec, H, [&](long r0, long r1) {
-    for (int y = int(r0); y < int(r1); ++y)
+    parallel_for(exec, H, [&, W, H, flat_span](long r0, long r1) {
+    // The 3x3 span from each row's 3-wide minimum and maximum of its finite
+    // depths (+inf and 0 where none), rows y - 1 .. y + 1 kept in a ring:
+    // loops over whole rows that the compiler vectorises.
+    const std::size_t w = std::size_t(W);
+    std::vector<float> pad_lo(w + 2), pad_hi(w + 2), ring_lo(3 * w), ring_hi(3 * w), near(w), far(w);
+    std::vector<unsigned char> steep(w);
+    auto row_span = [&](int y) {
+        const float* d = depth.data() + std::size_t(y) * w;
+        pad_lo[0] = pad_lo[w + 1] = std::numeric_limits<float>::infinity();
+        pad_hi[0] = pad_hi[w + 1] = 0.0f;
+        for (std::size_t x = 0; x < w; ++x) {
+            const bool finite = std::abs(d[x]) <= std::numeric_limits<float>::max();
+            pad_lo[x + 1] = finite ? d[x] : std::numeric_limits<float>::infinity();
+            pad_hi[x + 1] = finite ? d[x] : 0.0f;
+        }
+        float* lo = ring_lo.data() + std::size_t(y % 3) * w;
+        float* hi = ring_hi.data() + std::size_t(y % 3) * w;
+        for (std::size_t x = 0; x < w; ++x) {
+            lo[x] = std::min(std::min(pad_lo[x], pad_lo[x + 1]), pad_lo[x + 2]);
+            hi[x] = std::max(std::max(pad_hi[x], pad_hi[x + 1]), pad_hi[x + 2]);
+        }
+    };
+    for (int y = std::max(0, int(r0) - 1); y < std::min(H, int(r0) + 1); ++y) row_span(y);
+    for (int y = int(r0); y < int(r1); ++y) {
+        if (y + 1 < H) row_span(y + 1);
+        const int ya = std::max(0, y - 1), yb = std::min(H - 1, y + 1);
+        std::copy_n(ring_lo.data() + std::size_t(ya % 3) * w, w, near.data());
+        std::copy_n(ring_hi.data() + std::size_t(ya % 3) * w, w, far.data());
+        for (int yy = ya + 1; yy <= yb; ++yy) {
+            const float* lo = ring_lo.data() + std::size_t(yy % 3) * w;
+            const float* hi = ring_hi.data() + std::size_t(yy % 3) * w;
+            for (std::size_t x = 0; x < w; ++x) {
+                near[x] = std::min(near[x], lo[x]);
+                far[x] = std::max(far[x], hi[x]);
+            }
+        }
+        for (std::size_t x = 0; x < w; ++x) steep[x] = double(far[x]) > double(near[x]) * flat_span;
         for (int x = 0; x < W; ++x) {
+            if (!steep[std::size_t(x)]) continue;
             const double d = inv(x, y);
             if (std::isnan(d)) continue;
-            float near = std::numeric_limits<float>::infinity(), far = 0.0f;
-            for (int yy = std::max(0, y - 1); yy <= std::min(H - 1, y + 1); ++yy)
-                for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
-                    const float q = depth[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
-                    if (!std::isfinite(q)) continue;
-                    near = std::min(near, q);
-                    far = std::max(far, q);
-                }
-            if (double(far) <= double(near) * flat_span) continue;
             for (const auto& dir : dirs) {
                 // Along a line through the pixel: one side nearer, the other
                 // farther, each by more than `continuity` (sky and holes have
@@ -64,11 +92,12 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
                 const double a2 = inv(x - 2 * dir[0], y - 2 * dir[1]), b2 = inv(x + 2 * dir[0], y + 2 * dir[1]);
                 const double sa = std::isnan(a2) ? 0.0 : std::abs(a2 - a), sb = std::isnan(b2) ? 0.0 : std::abs(b2 - b);
                 if (sa + sb < 0.5 * (hi - lo)) {
-                    cand[std::size_t(y) * std::size_t(W) + std::size_t(x)] = 1;
+                    cand[std::size_t(y) * w + std::size_t(x)] = 1;
                     break;
                 }
             }
         }
+    }
     }, 16);
     return cand;
 }
