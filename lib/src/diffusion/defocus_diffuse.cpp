@@ -75,18 +75,25 @@ RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis,
     // Weights everywhere, radii only where the weight is > 0: the fill reads
     // no other value and writes all of them (nothing is zeroed first).
     RadiusMap full(ext.npixels()), weight(ext.npixels());
-    parallel_for(exec, ext.height(), [&](long r0, long r1) {
+    const KnownWeight known(analysis, layer);
+    parallel_for(exec, ext.height(), [&, known](long r0, long r1) {
         for (int y = ext.y0 + int(r0); y < ext.y0 + int(r1); ++y) {
-            const std::size_t row = std::size_t(y - ext.y0) * std::size_t(EW);
+            float* f = full.data() + std::size_t(y - ext.y0) * std::size_t(EW);
+            float* wt = weight.data() + std::size_t(y - ext.y0) * std::size_t(EW);
+            // The layer's columns on this row (none outside its rows): weights
+            // 0 on either side.
             const bool in_win = y >= win.y0 && y < win.y1;
-            for (int x = ext.x0; x < ext.x1; ++x) {
-                float wgt = 0.0f;
-                if (in_win && x >= win.x0 && x < win.x1) {
-                    const std::size_t src = img.offset(x, y);
-                    wgt = known_weight(analysis, layer, src);  // 0 or in (0, 1]
-                    if (wgt > 0.0f) full[row + std::size_t(x - ext.x0)] = analysis.radius[src];
-                }
-                weight[row + std::size_t(x - ext.x0)] = wgt;
+            const int xa = in_win ? std::clamp(win.x0, ext.x0, ext.x1) : ext.x1;
+            const int xb = in_win ? std::clamp(win.x1, xa, ext.x1) : ext.x1;
+            std::fill(wt, wt + (xa - ext.x0), 0.0f);
+            std::fill(wt + (xb - ext.x0), wt + EW, 0.0f);
+            if (xa >= xb) continue;
+            const std::size_t src0 = img.offset(xa, y);
+            for (int x = xa; x < xb; ++x) {
+                const std::size_t src = src0 + std::size_t(x - xa);
+                const float wgt = known(src);  // 0 or in (0, 1]
+                if (wgt > 0.0f) f[x - ext.x0] = known.radius[src];
+                wt[x - ext.x0] = wgt;
             }
         }
     }, 16);

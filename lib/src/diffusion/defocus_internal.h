@@ -2,7 +2,9 @@
 // defocus_*.cpp files only.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "gdof/bokeh.h"
@@ -36,8 +38,21 @@ Status non_finite_colour(const std::string& where, int channel, float value, int
 // within a pixel) as non_finite_colour; absent channels (index < 0) skipped.
 Status check_finite_colour(const Image& img, const RgbaIndices& rgba, const std::string& where, const Exec& exec);
 
-// Weight of a layer pixel as a known radius for the extrapolation (0: unknown).
-float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t pixel);
+// Weight of a layer pixel as a known radius for the extrapolation (0:
+// unknown): min(A, 1) where A > 0; for a layer without alpha, 1 where it has
+// colour and a finite radius. Made once per layer, inline per pixel.
+struct KnownWeight {
+    KnownWeight(const LayerAnalysis& a, const Layer& layer)
+        : from_alpha(a.radius_from_alpha), r(layer.image.plane(a.rgba.r)), g(layer.image.plane(a.rgba.g)),
+          b(layer.image.plane(a.rgba.b)), alpha(layer.image.plane(a.rgba.a)), radius(a.radius.data()) {}
+    float operator()(std::size_t i) const {
+        if (from_alpha) return alpha[i] > 0.0f ? std::min(alpha[i], 1.0f) : 0.0f;
+        const bool content = r[i] != 0.0f || g[i] != 0.0f || b[i] != 0.0f;
+        return content && std::isfinite(radius[i]) ? 1.0f : 0.0f;
+    }
+    bool from_alpha;
+    const float *r, *g, *b, *alpha, *radius;
+};
 
 // Name used in messages: "layer 2 'depth 2.10-3.40'".
 std::string layer_label(const Layer& layer, int index);

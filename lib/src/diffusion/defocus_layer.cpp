@@ -54,17 +54,6 @@ std::string layer_label(const Layer& layer, int index) {
     return "layer " + std::to_string(index) + (layer.name.empty() ? std::string() : " '" + layer.name + "'");
 }
 
-float known_weight(const LayerAnalysis& a, const Layer& layer, std::size_t i) {
-    const Image& img = layer.image;
-    if (a.radius_from_alpha) {
-        const float alpha = img.plane(a.rgba.a)[i];
-        return alpha > 0.0f ? std::min(alpha, 1.0f) : 0.0f;
-    }
-    const bool content = img.plane(a.rgba.r)[i] != 0.0f || img.plane(a.rgba.g)[i] != 0.0f ||
-                         img.plane(a.rgba.b)[i] != 0.0f;
-    return content && std::isfinite(a.radius[i]) ? 1.0f : 0.0f;
-}
-
 Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurField& field, const Camera& camera,
                                     const DiffusionOptions& settings, const Exec& exec) {
     const Image& img = layer.image;
@@ -129,16 +118,17 @@ Result<LayerAnalysis> analyse_layer(const Layer& layer, int index, const BlurFie
     // (NaN, <= 0) is sky, as +inf is; holes were the input's to fill.
     PositionSource layer_z;
     layer_z.depth_decode.invalid = std::numeric_limits<double>::infinity();
-    if (Status st = evaluate_blur_map(field, camera, img, layer_z, ImageView::planar(a.radius.data(), 1, win), exec); !st)
-        return st.prefix(where + ": blur field");
+    if (Status map = evaluate_blur_map(field, camera, img, layer_z, ImageView::planar(a.radius.data(), 1, win), exec); !map)
+        return map.prefix(where + ": blur field");
 
     const int zc = img.channel_index("Z");
     std::vector<double> row_rmax(std::size_t(win.height()), 0.0);
+    const KnownWeight known(a, layer);
     st = parallel_run(exec, win.height(), [&](long y0, long y1) {
         for (long yy = y0; yy < y1; ++yy)
             for (int xx = 0; xx < w; ++xx) {
                 const std::size_t i = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
-                if (!(known_weight(a, layer, i) > 0.0f)) continue;
+                if (!(known(i) > 0.0f)) continue;
                 float& r = a.radius[i];
                 const int x = win.x0 + xx, y = win.y0 + int(yy);
                 if (!std::isfinite(r)) {

@@ -28,17 +28,21 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
     parallel_for(exec, work.height(), [&](long r0, long r1) {
         for (int y = work.y0 + int(r0); y < work.y0 + int(r1); ++y) {
             const std::size_t row = std::size_t(y - work.y0) * ww;
-            std::fill_n(own.data() + row, ww, 0);
-            std::fill_n(alpha.data() + row, ww, 0.0f);
+            unsigned char* own_row = own.data() + row;  // locals: byte stores may alias references
+            float* alpha_row = alpha.data() + row;
+            std::fill_n(own_row, ww, 0);
+            std::fill_n(alpha_row, ww, 0.0f);
             if (w.empty() || y < w.y0 || y >= w.y1) continue;
             const std::size_t o = img.offset(w.x0, y);
             const float *R = img.plane(0) + o, *G = img.plane(1) + o, *B = img.plane(2) + o, *A = img.plane(3) + o;
-            const std::size_t i0 = row + std::size_t(w.x0 - work.x0);
-            for (int x = 0; x < w.width(); ++x) {
+            unsigned char* ow = own_row + (w.x0 - work.x0);
+            float* al = alpha_row + (w.x0 - work.x0);
+            const int wx = w.width();
+            for (int x = 0; x < wx; ++x) {
                 const float a = A[x];
                 const bool present = covers(R[x], G[x], B[x], a);
-                own[i0 + std::size_t(x)] = present ? 1 : 0;
-                alpha[i0 + std::size_t(x)] = present ? std::clamp(a, 0.0f, 1.0f) : 0.0f;
+                ow[x] = present ? 1 : 0;
+                al[x] = present ? std::clamp(a, 0.0f, 1.0f) : 0.0f;
             }
         }
     }, 16);
@@ -55,12 +59,17 @@ constexpr int kRim = 4;
 FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, int w, int h, const Exec& exec) {
     FrameBuffer<unsigned char> rim(own.size());  // every element written
     const std::size_t W = std::size_t(w);
-    parallel_for(exec, h, [&](long r0, long r1) {
-        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) rim[i] = own[i] ? 0 : 1;
+    const unsigned char* o = own.data();
+    unsigned char* r = rim.data();
+    // Pointers and bounds by value: byte stores may alias anything reached
+    // through a reference, which stops vectorisation.
+    parallel_for(exec, h, [o, r, W](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = o[i] ? 0 : 1;
     }, 64);
     rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near an uncovered pixel
-    parallel_for(exec, h, [&](long r0, long r1) {
-        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) rim[i] = own[i] && rim[i] ? 1 : 0;
+    r = rim.data();
+    parallel_for(exec, h, [o, r, W](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = o[i] && r[i] ? 1 : 0;
     }, 64);
     return rim;
 }
@@ -138,22 +147,32 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // union is taken after, in row order.
     std::vector<Roi> row_box(static_cast<std::size_t>(wh));
     parallel_for(exec, wh, [&](long r0, long r1) {
+        // Locals: the byte stores below may alias anything reached through a
+        // reference, which would reload every pointer per pixel.
+        const std::uint16_t* hidden_from = plan.hidden_from.data();
+        const int* owner = opt.owner.empty() ? nullptr : opt.owner.data();
+        const float* owner_distance = with_owner_distance ? opt.owner_distance.data() : nullptr;
+        const unsigned char* own_p = own.data();
+        const float* dist_p = dist.empty() ? nullptr : dist.data();
+        unsigned char *ext_p = ext.data(), *seen_p = seen_empty.data();
+        const bool fades_at_emptiness_only = opt.coverage_fades_at_emptiness_only;
+        const double extend_px = opt.extend_px;
         for (int y = int(r0); y < int(r1); ++y) {
             int xmin = ww, xmax = -1;
+            const std::size_t wrow = std::size_t(y) * std::size_t(ww), frow = fi(work.x0, work.y0 + y);
             for (int x = 0; x < ww; ++x) {
-                const std::size_t wi = std::size_t(y) * ww + x, i = fi(work.x0 + x, work.y0 + y);
-                const bool hidden = s >= int(plan.hidden_from[i]);
+                const std::size_t wi = wrow + std::size_t(x), i = frow + std::size_t(x);
+                const bool hidden = s >= int(hidden_from[i]);
                 // The farthest layer still backs what its owner's reach misses (an
                 // opaque plate stays opaque), but not what borders emptiness.
-                const bool allowed = opt.owner.empty() || opt.owner[i] == s || (fills_frame && opt.owner[i] >= 0);
-                const bool empty_here = !opt.coverage_fades_at_emptiness_only ||
-                                        plan.hidden_from[i] == ExtensionPlan::kNeverHidden;
-                seen_empty[wi] = !hidden && !own[wi] && empty_here ? 1 : 0;
-                ext[wi] = 0;
-                if (!hidden || own[wi] || !allowed) continue;
-                const float d = fills_frame ? 0.0f : with_owner_distance ? opt.owner_distance[i] : dist[wi];
-                if (fills_frame || d <= opt.extend_px) {
-                    ext[wi] = 1;
+                const bool allowed = !owner || owner[i] == s || (fills_frame && owner[i] >= 0);
+                const bool empty_here = !fades_at_emptiness_only || hidden_from[i] == ExtensionPlan::kNeverHidden;
+                seen_p[wi] = !hidden && !own_p[wi] && empty_here ? 1 : 0;
+                ext_p[wi] = 0;
+                if (!hidden || own_p[wi] || !allowed) continue;
+                const float d = fills_frame ? 0.0f : owner_distance ? owner_distance[i] : dist_p[wi];
+                if (fills_frame || double(d) <= extend_px) {
+                    ext_p[wi] = 1;
                     xmin = std::min(xmin, x);
                     xmax = x;
                 }
@@ -180,26 +199,37 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
     const FrameBuffer<unsigned char> rim = coverage_rim(own, ww, wh, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
-        for (int y = int(r0); y < int(r1); ++y)
+        // Locals: the stores below may alias anything reached through a reference.
+        const unsigned char* rim_p = rim.data();
+        const float* alpha_p = alpha.data();
+        float *wc = wcol.data(), *wg = wgeo.data();
+        std::array<float*, 7> fp = fill;
+        std::array<const float*, 8> sp{};
+        for (int c = 0; c < std::min(8, src.nchannels()); ++c) sp[std::size_t(c)] = src.plane(c);
+        for (int y = int(r0); y < int(r1); ++y) {
+            const std::size_t wrow = std::size_t(y) * std::size_t(ww);
+            std::fill_n(wc + wrow, ww, 0.0f);
+            std::fill_n(wg + wrow, ww, 0.0f);
+            bool same = true;
             for (int x = 0; x < ww; ++x) {
-                const int ax = work.x0 + x, ay = work.y0 + y;
-                const std::size_t wi = std::size_t(y) * ww + x;
-                wcol[wi] = wgeo[wi] = 0.0f;
-                if (!rim[wi] || !(alpha[wi] > 0.0f)) continue;
-                const float al = alpha[wi];
-                wcol[wi] = al;
-                const std::size_t o = src.offset(ax, ay);
-                for (int c = 0; c < 3; ++c) fill[std::size_t(c)][wi] = src.plane(c)[o] / src.plane(3)[o];
-                bool geo = std::isfinite(src.plane(4)[o]);
-                for (int k = 0; has_p && k < 3; ++k) geo = geo && std::isfinite(src.plane(5 + k)[o]);
+                const std::size_t wi = wrow + std::size_t(x);
+                if (!rim_p[wi] || !(alpha_p[wi] > 0.0f)) continue;
+                const float al = alpha_p[wi];
+                wc[wi] = al;
+                const std::size_t o = src.offset(work.x0 + x, work.y0 + y);
+                for (int c = 0; c < 3; ++c) fp[std::size_t(c)][wi] = sp[std::size_t(c)][o] / sp[3][o];
+                bool geo = std::isfinite(sp[4][o]);
+                for (int k = 0; has_p && k < 3; ++k) geo = geo && std::isfinite(sp[std::size_t(5 + k)][o]);
                 if (geo) {
-                    wgeo[wi] = al;
-                    fill[3][wi] = src.plane(4)[o];
-                    for (int k = 0; has_p && k < 3; ++k) fill[std::size_t(4 + k)][wi] = src.plane(5 + k)[o];
+                    wg[wi] = al;
+                    fp[3][wi] = sp[4][o];
+                    for (int k = 0; has_p && k < 3; ++k) fp[std::size_t(4 + k)][wi] = sp[std::size_t(5 + k)][o];
                 } else {
-                    same_weights[std::size_t(y)] = 0;
+                    same = false;
                 }
             }
+            if (!same) same_weights[std::size_t(y)] = 0;
+        }
     }, 16);
     const ImageView fill_view = ImageView::planar(fill_planes.data(), nfill, work);
     // Colour and geometry share one fill when their weights are the same (no
@@ -272,18 +302,26 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     }
     Image& out = L.image;
     parallel_for(exec, wh, [&](long r0, long r1) {
-        for (int y = int(r0); y < int(r1); ++y)
+        // Locals: the float stores below may alias anything reached through a reference.
+        const unsigned char* ext_p = ext.data();
+        const float* cover_p = coverage_continues ? cover.data() : nullptr;
+        const std::array<float*, 7> fp = fill;
+        std::array<float*, 8> op{};
+        for (int c = 0; c < std::min(8, out.nchannels()); ++c) op[std::size_t(c)] = out.plane(c);
+        for (int y = int(r0); y < int(r1); ++y) {
+            const std::size_t wrow = std::size_t(y) * std::size_t(ww);
+            const std::size_t orow = out.offset(work.x0, work.y0 + y);
             for (int x = 0; x < ww; ++x) {
-                const std::size_t wi = std::size_t(y) * ww + x;
-                if (!ext[wi]) continue;
-                const int ax = work.x0 + x, ay = work.y0 + y;
-                const std::size_t o = out.offset(ax, ay);
-                const float a = coverage_continues ? std::clamp(cover[wi], 0.0f, 1.0f) : 1.0f;
-                for (int c = 0; c < 3; ++c) out.plane(c)[o] = have_colour ? fill[std::size_t(c)][wi] * a : 0.0f;
-                out.plane(3)[o] = a;
-                out.plane(4)[o] = have_depth ? fill[3][wi] : float(kInf);
-                for (int k = 0; has_p && k < 3; ++k) out.plane(5 + k)[o] = have_depth ? fill[std::size_t(4 + k)][wi] : kNaN;
+                const std::size_t wi = wrow + std::size_t(x);
+                if (!ext_p[wi]) continue;
+                const std::size_t o = orow + std::size_t(x);
+                const float a = cover_p ? std::clamp(cover_p[wi], 0.0f, 1.0f) : 1.0f;
+                for (int c = 0; c < 3; ++c) op[std::size_t(c)][o] = have_colour ? fp[std::size_t(c)][wi] * a : 0.0f;
+                op[3][o] = a;
+                op[4][o] = have_depth ? fp[3][wi] : float(kInf);
+                for (int k = 0; has_p && k < 3; ++k) op[std::size_t(5 + k)][o] = have_depth ? fp[std::size_t(4 + k)][wi] : kNaN;
             }
+        }
     }, 16);
     return Status::ok();
 }

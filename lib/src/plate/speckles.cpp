@@ -52,8 +52,8 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
     // components (and so what is removed) do not depend on the order.
     // Within a band each row's runs of continuous pixels are one tree at
     // once (parent: the run's first pixel), then joined to the row above
-    // through the three lower neighbours; a join between the same two runs
-    // as the one before is skipped (already joined).
+    // through the three lower neighbours; a pair of pixels in the same two
+    // runs as the last join is skipped untested (already joined).
     constexpr int kBand = 64;
     const int nbands = (H + kBand - 1) / kBand;
     auto runs = [&](int y, std::vector<int>& run) {
@@ -80,9 +80,11 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
             const float d = depth[std::size_t(ru + x)];
             if (std::isnan(d)) continue;
             for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
-                if (!continuous(d, depth[std::size_t(r + xx)], continuity)) continue;
+                // The runs of the last join are joined already: no test needed
+                // (most pixels of two long runs).
                 const int a = up[std::size_t(x)], b = cur[std::size_t(xx)];
                 if (a == last_a && b == last_b) continue;
+                if (!continuous(d, depth[std::size_t(r + xx)], continuity)) continue;
                 uf.join(a, b);
                 last_a = a, last_b = b;
             }
