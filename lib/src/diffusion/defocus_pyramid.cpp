@@ -20,8 +20,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
+#include "common/simd_clones.h"
 #include "diffusion/defocus_internal.h"
 #include "image/mask_dilate.h"
 
@@ -256,6 +258,39 @@ std::vector<Taps> axis_taps(int p0, int p1, int scale, int lo, int hi, int blo, 
     return out;
 }
 
+// The vertical sums of one work row over a level's solved box (BW cells
+// wide, n cells, 4 planes of `sol`, the kept `area`): per cell the four taps'
+// colour times area, and the area, into row[8 X + c] (c = 4: the area; 5-7
+// padding, 0). Summed plane by plane along the row (loops the compiler
+// vectorises, into `scratch`), each element in the same order as a cell at
+// a time, then interleaved.
+GDOF_CLONES
+void vertical_sums(const Taps& t, const float* sol, const float* area, std::size_t BW, std::size_t n,
+                   std::vector<float>& row, std::vector<float>& scratch) {
+    scratch.resize(6 * BW);
+    std::fill_n(scratch.data(), 5 * BW, 0.0f);
+    float* wa = scratch.data() + 5 * BW;  // this tap's weight times area, per cell (plane 4: their sum)
+    for (int k = 0; k < 4; ++k) {
+        const std::size_t r = std::size_t(t.at[k]) * BW;
+        const float w = t.w[k];
+        const float* a = area + r;
+        for (std::size_t X = 0; X < BW; ++X) wa[X] = w * a[X];
+        for (int c = 0; c < 4; ++c) {
+            float* o = scratch.data() + std::size_t(c) * BW;
+            const float* v = sol + std::size_t(c) * n + r;
+            for (std::size_t X = 0; X < BW; ++X) o[X] += wa[X] * v[X];
+        }
+        float* o = scratch.data() + 4 * BW;
+        for (std::size_t X = 0; X < BW; ++X) o[X] += wa[X];
+    }
+    row.resize(8 * BW);
+    for (std::size_t X = 0; X < BW; ++X) {
+        float* o = row.data() + 8 * X;
+        for (int c = 0; c < 5; ++c) o[c] = scratch[std::size_t(c) * BW + X];
+        o[5] = o[6] = o[7] = 0.0f;
+    }
+}
+
 // One level brought back to full resolution, row by row: cubic B-spline
 // weighted by each cell's kept area (normalised), so that insulating cells
 // do not darken the blurred pixels beside them. The taps depend only on a
@@ -280,29 +315,22 @@ struct LevelReturn {
     // planes times area, then the area, side by side (kRowStride floats per
     // cell, so that a pixel's taps are whole short vectors).
     static constexpr std::size_t kRowStride = 8;
-    void vertical(int yl, std::vector<float>& row) const {
-        const std::size_t BW = std::size_t(box.width()), n = box.npixels();
-        row.assign(kRowStride * BW, 0.0f);
-        const Taps& t = rows[std::size_t(yl)];
-        for (int k = 0; k < 4; ++k) {
-            const std::size_t r = std::size_t(t.at[k]) * BW;
-            const float w = t.w[k];
-            const float* a = area.data() + r;
-            for (std::size_t X = 0; X < BW; ++X) {
-                const float wa = w * a[X];
-                float* o = row.data() + kRowStride * X;
-                for (int c = 0; c < 4; ++c) o[c] += wa * (*sol)[std::size_t(c) * n + r + X];
-                o[4] += wa;
-            }
-        }
+    void vertical(int yl, std::vector<float>& row, std::vector<float>& scratch) const {
+        vertical_sums(rows[std::size_t(yl)], sol->data(), area.data(), std::size_t(box.width()), box.npixels(), row,
+                      scratch);
     }
     // The level's value at work column xl of that row, times wgt, added to acc.
+    // The sums are one 8-float vector (4 colours times area, the area,
+    // padding): each lane the same operations in the same order as a scalar
+    // loop, so the same bits, in one AVX2 instruction or two SSE ones.
     void horizontal(const std::vector<float>& row, int xl, float wgt, float acc[4]) const {
+        typedef float Vec8 __attribute__((vector_size(32)));
         const Taps& t = cols[std::size_t(xl)];
-        float sum[kRowStride] = {0, 0, 0, 0, 0, 0, 0, 0};  // 4 colours times area, the area, padding
+        Vec8 sum = {0, 0, 0, 0, 0, 0, 0, 0};
         for (int k = 0; k < 4; ++k) {
-            const float* v = row.data() + kRowStride * std::size_t(t.at[k]);
-            for (std::size_t c = 0; c < kRowStride; ++c) sum[c] += t.w[k] * v[c];
+            Vec8 v;
+            std::memcpy(&v, row.data() + kRowStride * std::size_t(t.at[k]), sizeof v);
+            sum += t.w[k] * v;
         }
         const float den = sum[4];
         if (!(den > 0.0f)) return;
@@ -310,6 +338,31 @@ struct LevelReturn {
         for (int c = 0; c < 4; ++c) acc[c] += f * sum[c];
     }
 };
+
+// One work row returned: per pixel the two levels around its own (`lrow`),
+// blended linearly in log2(R); level 0 from s0 (at x + dx0), the others from
+// their vertical sums `rows`. Compiled for AVX2 too (the taps' 8-float sums).
+GDOF_CLONES
+void return_row(const float* lrow, int W, int levels, const LevelReturn* ret, const std::vector<float>* rows,
+                const float* const s0[4], std::ptrdiff_t dx0, float* const out[4]) {
+    for (int x = 0; x < W; ++x) {
+        const float l = lrow[x];
+        const int j0 = std::min(int(l), levels);
+        const float f = l - float(j0);
+        float a4[4] = {0, 0, 0, 0};
+        for (int k = 0; k < 2; ++k) {
+            const int j = j0 + k;
+            const float w = k == 0 ? 1.0f - f : f;
+            if (!(w > 0.0f) || j > levels) continue;
+            if (j == 0) {
+                for (int c = 0; c < 4; ++c) a4[c] += w * s0[c][std::ptrdiff_t(x) + dx0];
+            } else {
+                ret[j].horizontal(rows[j], x, w, a4);
+            }
+        }
+        for (int c = 0; c < 4; ++c) out[c][x] = a4[c];
+    }
+}
 
 // Number of coarse levels for a layer's largest radius and its whole region
 // (0: the layer is solved at full resolution only).
@@ -417,6 +470,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
     const std::size_t n0 = box0.npixels();
     const bool ok = parallel_for(exec, H, [&](long y0, long y1) {
         std::vector<std::vector<float>> rows(std::size_t(levels) + 1);
+        std::vector<float> scratch;
         std::vector<char> used(std::size_t(levels) + 1);
         for (long yl = y0; yl < y1; ++yl) {
             const int y = work.y0 + int(yl);
@@ -428,7 +482,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
                 if (j0 < levels && lrow[x] > float(j0)) used[std::size_t(j0) + 1] = 1;
             }
             for (int j = 1; j <= levels; ++j)
-                if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(int(yl), rows[std::size_t(j)]);
+                if (used[std::size_t(j)]) ret[std::size_t(j)].vertical(int(yl), rows[std::size_t(j)], scratch);
             // Level 0 of this row, plane c (read at x before x is written).
             // s0[c] is the row's start; x + dx0 indexes it (dx0 < 0 where the
             // level-0 box starts right of the work: those x never read it).
@@ -438,23 +492,11 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
                 s0[c] = level0_in_place ? planes.plane(c) + std::size_t(yl) * std::size_t(W)
                                         : sol[0].data() + std::size_t(c) * n0 +
                                               std::size_t(y - box0.y0) * std::size_t(box0.width());
-            for (int x = 0; x < W; ++x) {
-                const float l = lrow[x];
-                const int j0 = std::min(int(l), levels);
-                const float f = l - float(j0);
-                float a4[4] = {0, 0, 0, 0};
-                for (int k = 0; k < 2; ++k) {
-                    const int j = j0 + k;
-                    const float w = k == 0 ? 1.0f - f : f;
-                    if (!(w > 0.0f) || j > levels) continue;
-                    if (j == 0) {
-                        for (int c = 0; c < 4; ++c) a4[c] += w * s0[c][std::ptrdiff_t(x) + dx0];
-                    } else {
-                        ret[std::size_t(j)].horizontal(rows[std::size_t(j)], x, w, a4);
-                    }
-                }
-                for (int c = 0; c < 4; ++c) planes.plane(c)[std::size_t(yl) * std::size_t(W) + std::size_t(x)] = a4[c];
-            }
+            float* const out[4] = {planes.plane(0) + std::size_t(yl) * std::size_t(W),
+                                   planes.plane(1) + std::size_t(yl) * std::size_t(W),
+                                   planes.plane(2) + std::size_t(yl) * std::size_t(W),
+                                   planes.plane(3) + std::size_t(yl) * std::size_t(W)};
+            return_row(lrow, W, levels, ret.data(), rows.data(), s0, dx0, out);
         }
     });
     return ok ? Status::ok() : Status::cancelled("diffusion");

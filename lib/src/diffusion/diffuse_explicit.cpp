@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/flush_denormals.h"
+#include "common/simd_clones.h"
 #include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
 #include "image/frame_buffer.h"
@@ -118,19 +119,6 @@ std::pair<int, int> step_row_edges(int W, int x0, int x1, const LinkRow& c, cons
                 csw_r[x] * ((us)[(x) - 1] - (u0)[x]) + cs_n[x] * ((um)[x] - (u0)[x]) +                              \
                 cse_n[(x) - 1] * ((um)[(x) - 1] - (u0)[x]) + csw_n[(x) + 1] * ((um)[(x) + 1] - (u0)[x])))
 
-#if defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define GDOF_NO_CLONES 1
-#endif
-#endif
-#if defined(__SANITIZE_THREAD__) || defined(GDOF_NO_CLONES)
-// Under ThreadSanitizer one version only: the clones' resolver runs while the
-// program is loaded, before the sanitizer's runtime is ready, and crashes.
-#define GDOF_CLONES
-#else
-#define GDOF_CLONES __attribute__((target_clones("avx2", "default")))
-#endif
-
 GDOF_CLONES
 void step_row(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const float* __restrict um,
               const float* __restrict u0, const float* __restrict us, float* __restrict out) {
@@ -200,7 +188,6 @@ void step_row4(int W, int x0, int x1, const LinkRow& c, const LinkRow& n, const 
         for (int p = 0; p < 4; ++p) out[std::size_t(p)][x] = GDOF_STENCIL(um[std::size_t(p)], u0[std::size_t(p)], us[std::size_t(p)], x);
 }
 #undef GDOF_STENCIL
-#undef GDOF_CLONES
 
 // Iterations fused per pass over memory: a band of rows is advanced k
 // iterations at once through ring buffers of three rows per intermediate
