@@ -443,10 +443,13 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
         // The pixels that blend level 0, over its box.
         FrameBuffer<unsigned char> used(box0.npixels());  // every element set below
         parallel_for(exec, box0.height(), [&](long r0, long r1) {
-            for (int y = box0.y0 + int(r0); y < box0.y0 + int(r1); ++y)
-                for (int x = box0.x0; x < box0.x1; ++x)
-                    used[std::size_t(y - box0.y0) * std::size_t(box0.width()) + std::size_t(x - box0.x0)] =
-                        lev[std::size_t(y - work.y0) * std::size_t(W) + std::size_t(x - work.x0)] < 1.0f;
+            for (int y = box0.y0 + int(r0); y < box0.y0 + int(r1); ++y) {
+                // Locals: a byte store may alias anything reached through a reference.
+                unsigned char* u = used.data() + std::size_t(y - box0.y0) * std::size_t(box0.width());
+                const float* l = lev.data() + std::size_t(y - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
+                const int cols = box0.width();
+                for (int x = 0; x < cols; ++x) u[x] = l[x] < 1.0f;
+            }
         }, 16);
         const std::size_t off = std::size_t(box0.y0 - work.y0) * std::size_t(W) + std::size_t(box0.x0 - work.x0);
         Status st;

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -144,8 +146,17 @@ void pull(int fw, int fh, const float* fweight, bool unknown_only, std::span<flo
             const std::size_t ra = std::size_t(vy.a) * std::size_t(c.w), rb = std::size_t(vy.b) * std::size_t(c.w);
             const std::size_t row = std::size_t(yl) * std::size_t(fw);
             pulled.clear();
+            const unsigned char* wr = wanted.empty() ? nullptr : wanted.data() + row;
             for (int x = 0; x < fw; ++x) {
-                if (!wanted.empty() && !wanted[row + std::size_t(x)]) continue;
+                if (wr) {  // eight unwanted pixels skipped at a time (most are)
+                    std::uint64_t eight = 1;
+                    if ((x & 7) == 0 && x + 8 <= fw) std::memcpy(&eight, wr + x, 8);
+                    if (eight == 0) {
+                        x += 7;
+                        continue;
+                    }
+                    if (!wr[x]) continue;
+                }
                 const float fwt = fweight[row + std::size_t(x)];
                 const float wx = unknown_only ? (fwt > 0.0f ? 1.0f : 0.0f) : fwt;
                 if (wx >= 1.0f) continue;
@@ -195,12 +206,21 @@ std::vector<unsigned char> taps_read(int fw, int fh, const float* fweight, bool 
             // Fine rows around 2Y + 0.5 are the only ones with a tap on Y.
             for (int y = std::max(0, int(2 * Y) - 2); y < std::min(fh, int(2 * Y) + 4); ++y) {
                 if (ty[std::size_t(y)].a != int(Y) && ty[std::size_t(y)].b != int(Y)) continue;
+                // Locals (a byte store may alias anything reached through a
+                // reference); eight unmarked pixels skipped at a time (most are).
                 const std::size_t row = std::size_t(y) * std::size_t(fw);
-                for (int x = 0; x < fw; ++x) {
-                    if (!pulled[row + std::size_t(x)]) continue;
-                    const float fwt = fweight[row + std::size_t(x)];
-                    if (unknown_only ? fwt > 0.0f : fwt >= 1.0f) continue;
-                    o[tx[std::size_t(x)].a] = o[tx[std::size_t(x)].b] = 1;
+                const unsigned char* p = pulled.data() + row;
+                const float* wt = fweight + row;
+                const Tap* t = tx.data();
+                for (int x = 0; x < fw;) {
+                    std::uint64_t eight = 0;
+                    if (x + 8 <= fw) std::memcpy(&eight, p + x, 8);
+                    if (x + 8 <= fw && eight == 0) {
+                        x += 8;
+                        continue;
+                    }
+                    if (p[x] && !(unknown_only ? wt[x] > 0.0f : wt[x] >= 1.0f)) o[t[x].a] = o[t[x].b] = 1;
+                    ++x;
                 }
             }
         }

@@ -94,9 +94,8 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                                    int W, int H, const Exec& exec, double bound) {
     const std::size_t n = slice.size();
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    auto front = [&](std::size_t i) {  // the pixel's nearest slice, -1: no sample
-        return fg_slice[i] >= 0 && fg_slice[i] < slice[i] ? fg_slice[i] : slice[i];
-    };
+    // A pixel's front: its nearest slice (the nearer of slice and fg_slice),
+    // -1 where it has no sample.
     // Emptiness (no sample at all: a render's transparent sky) is the
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
@@ -122,26 +121,37 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
             Roi* box = band_box.data() + std::size_t(b) * std::size_t(nslices);
             // Per row, each slice's first and last column (a box per row, not
             // per pixel).
-            std::vector<int> xlo(std::size_t(std::max(0, nslices))), xhi(std::size_t(std::max(0, nslices)));
+            std::vector<int> xlo_v(std::size_t(std::max(0, nslices))), xhi_v(std::size_t(std::max(0, nslices)));
+            // Locals: stores may alias anything of their type reached through a reference.
+            int* xlo = xlo_v.data();
+            int* xhi = xhi_v.data();
+            bool empty = false;
             for (int y = y0; y < y1; ++y) {
-                std::fill(xlo.begin(), xlo.end(), W);
-                std::fill(xhi.begin(), xhi.end(), -1);
+                std::fill(xlo_v.begin(), xlo_v.end(), W);
+                std::fill(xhi_v.begin(), xhi_v.end(), -1);
                 const std::size_t r = std::size_t(y) * std::size_t(W);
-                for (int x = 0; x < W; ++x) {
-                    const int a = slice[r + std::size_t(x)], f = fg_slice[r + std::size_t(x)];
-                    front_of[r + std::size_t(x)] = std::uint16_t(front(r + std::size_t(x)) + 1);
-                    best_k[r + std::size_t(x)] = -1;
-                    best[r + std::size_t(x)] = kInf;
-                    if (a < 0) band_empty[std::size_t(b)] = 1;
+                const int* sl = slice.data() + r;
+                const int* fg = fg_slice.data() + r;
+                std::uint16_t* fr = front_of.data() + r;
+                int* bk = best_k.data() + r;
+                float* bd = best.data() + r;
+                const int ns = nslices, cols = W;
+                for (int x = 0; x < cols; ++x) {
+                    const int a = sl[x], f = fg[x];
+                    fr[x] = std::uint16_t((f >= 0 && f < a ? f : a) + 1);  // the front + 1
+                    bk[x] = -1;
+                    bd[x] = kInf;
+                    empty = empty || a < 0;
                     for (int k : {a, f})
-                        if (k >= 0 && k < nslices) {
-                            xlo[std::size_t(k)] = std::min(xlo[std::size_t(k)], x);
-                            xhi[std::size_t(k)] = x;
+                        if (k >= 0 && k < ns) {
+                            xlo[k] = std::min(xlo[k], x);
+                            xhi[k] = x;
                         }
                 }
                 for (int k = 0; k < nslices; ++k)
-                    if (xhi[std::size_t(k)] >= 0) box[k] = unite(box[k], Roi{xlo[std::size_t(k)], y, xhi[std::size_t(k)] + 1, y + 1});
+                    if (xhi[k] >= 0) box[k] = unite(box[k], Roi{xlo[k], y, xhi[k] + 1, y + 1});
             }
+            if (empty) band_empty[std::size_t(b)] = 1;
         }
     });
     std::vector<Roi> box(std::size_t(std::max(0, nslices)));
@@ -182,9 +192,13 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
         mask.resize(win.npixels());
         parallel_for(exec, wh, [&](long r0, long r1) {
             for (long r = r0; r < r1; ++r) {
+                // Locals: a byte store may alias anything reached through a reference.
                 const std::size_t src = std::size_t(win.y0 + r) * std::size_t(W) + std::size_t(win.x0);
+                const int* sl = slice.data() + src;
+                const int* fg = fg_slice.data() + src;
                 unsigned char* m = mask.data() + std::size_t(r) * std::size_t(ww);
-                for (int x = 0; x < ww; ++x) m[x] = slice[src + std::size_t(x)] == k || fg_slice[src + std::size_t(x)] == k;
+                const int kk = k, cols = ww;
+                for (int x = 0; x < cols; ++x) m[x] = sl[x] == kk || fg[x] == kk;
             }
         }, 16);
         distance_transform(mask, ww, wh, dist, exec, bounded ? bound : kInf);

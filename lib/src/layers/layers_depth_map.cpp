@@ -355,21 +355,32 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
                           pos_ ? img_.plane((*pos_)[2]) : nullptr};
     Image& out = L.image;
     const bool done = parallel_for(exec, box.height(), [&](long r0, long r1) {
-        for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
-            for (int x = box.x0; x < box.x1; ++x) {
-                const std::size_t o = out.offset(x, y);
-                const std::size_t i = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(x - win.x0);
+        // Each row blank first (RGBA 0, Z and P NaN: whole-row fills), then
+        // the slice's pixels written over it.
+        const int nch = out.nchannels();
+        std::array<float*, 8> op{};
+        for (int c = 0; c < std::min(8, nch); ++c) op[std::size_t(c)] = out.plane(c);
+        const int* sl = slice_.data();
+        const int* fg = fg_slice_.data();
+        const unsigned char* ct = cont.empty() ? nullptr : cont.data();
+        const int bw = box.width();
+        for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y) {
+            const std::size_t orow = out.offset(box.x0, y);
+            const std::size_t irow = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(box.x0 - win.x0);
+            for (int c = 0; c < std::min(8, nch); ++c) std::fill_n(op[std::size_t(c)] + orow, bw, c < 4 ? 0.0f : kNaN);
+            for (int x = 0; x < bw; ++x) {
+                const std::size_t i = irow + std::size_t(x), o = orow + std::size_t(x);
+                const bool continued = ct && ct[i];
+                if (sl[i] != s && fg[i] != s && !continued) continue;  // blank
                 Part p;
-                if (!part_of(i, s, p, !cont.empty() && cont[i])) {
-                    blank_layer_pixel(out, o);
-                    continue;
-                }
-                for (int c = 0; c < 3; ++c) out.plane(c)[o] = p.rgb[c];
-                out.plane(3)[o] = p.alpha;
-                out.plane(4)[o] = p.z;
+                if (!part_of(i, s, p, continued)) continue;
+                for (int c = 0; c < 3; ++c) op[std::size_t(c)][o] = p.rgb[c];
+                op[3][o] = p.alpha;
+                op[4][o] = p.z;
                 if (pos_)
-                    for (int c = 0; c < 3; ++c) out.plane(5 + c)[o] = pp[c][i];
+                    for (int c = 0; c < 3; ++c) op[std::size_t(5 + c)][o] = pp[c][i];
             }
+        }
     }, 8);
     if (!done) return Status::cancelled("depth-map layers");
     return Status::ok();

@@ -164,9 +164,50 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
                 far = std::max(far, q);
             }
     };
-    parallel_for(exec, H, [&](long r0, long r1) {
-        for (int y = int(r0); y < int(r1); ++y)
+    parallel_for(exec, H, [&, W, H, mixed_step](long r0, long r1) {
+        // A first look at every pixel's 3x3 span from rows' 3-wide minima and
+        // maxima of the non-hole depths (whole-row loops the compiler
+        // vectorises, rows y - 1 .. y + 1 in a ring); only a pixel whose span
+        // reaches a step is looked at again, exactly, below.
+        const std::size_t w = std::size_t(W);
+        constexpr float kInfF = std::numeric_limits<float>::infinity();
+        std::vector<float> pad_lo(w + 2), pad_hi(w + 2), ring_lo(3 * w), ring_hi(3 * w), lo3(w), hi3(w);
+        std::vector<unsigned char> step(w);
+        auto row_span = [&](int y) {
+            const float* d = depth.data() + std::size_t(y) * w;
+            pad_lo[0] = pad_lo[w + 1] = kInfF;
+            pad_hi[0] = pad_hi[w + 1] = -kInfF;
+            for (std::size_t x = 0; x < w; ++x) {
+                const bool hole = d[x] != d[x];  // NaN
+                pad_lo[x + 1] = hole ? kInfF : d[x];
+                pad_hi[x + 1] = hole ? -kInfF : d[x];
+            }
+            float* lo = ring_lo.data() + std::size_t(y % 3) * w;
+            float* hi = ring_hi.data() + std::size_t(y % 3) * w;
+            for (std::size_t x = 0; x < w; ++x) {
+                lo[x] = std::min(std::min(pad_lo[x], pad_lo[x + 1]), pad_lo[x + 2]);
+                hi[x] = std::max(std::max(pad_hi[x], pad_hi[x + 1]), pad_hi[x + 2]);
+            }
+        };
+        for (int y = std::max(0, int(r0) - 1); y < std::min(H, int(r0) + 1); ++y) row_span(y);
+        for (int y = int(r0); y < int(r1); ++y) {
+            if (y + 1 < H) row_span(y + 1);
+            const int ya = std::max(0, y - 1), yb = std::min(H - 1, y + 1);
+            std::copy_n(ring_lo.data() + std::size_t(ya % 3) * w, w, lo3.data());
+            std::copy_n(ring_hi.data() + std::size_t(ya % 3) * w, w, hi3.data());
+            for (int yy = ya + 1; yy <= yb; ++yy) {
+                const float* lo = ring_lo.data() + std::size_t(yy % 3) * w;
+                const float* hi = ring_hi.data() + std::size_t(yy % 3) * w;
+                for (std::size_t x = 0; x < w; ++x) {
+                    lo3[x] = std::min(lo3[x], lo[x]);
+                    hi3[x] = std::max(hi3[x], hi[x]);
+                }
+            }
+            // The window holds the pixel itself, so its span is the exact
+            // test's but for the sign of a zero, which no comparison sees.
+            for (std::size_t x = 0; x < w; ++x) step[x] = double(hi3[x]) >= double(lo3[x]) * mixed_step;
             for (int x = 0; x < W; ++x) {
+                if (!step[std::size_t(x)]) continue;
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                 const float d = depth[i];
                 if (!std::isfinite(d)) continue;
@@ -184,6 +225,7 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
                 }
                 row_changes[std::size_t(y)].push_back({i, near});
             }
+        }
     }, 16);
     std::size_t n = 0;
     for (const auto& row : row_changes) {
