@@ -21,6 +21,73 @@
 
 namespace gdof::plate_detail {
 
+namespace {
+
+// Each pixel's 3x3 minimum and maximum over the depths `keep` accepts (the
+// others, and beyond the image, count as lo_none / hi_none), a row at a time
+// from rows' 3-wide spans kept in a ring of three: whole-row loops that the
+// compiler vectorises. A first look for the mixed-pixel tests below, which
+// look again, exactly, only where the span is large. Rows in order from the
+// first asked for (one per task).
+template <class Keep>
+class Span3x3 {
+public:
+    Span3x3(const std::vector<float>& depth, int W, int H, Keep keep, float lo_none, float hi_none)
+        : d_(depth.data()), w_(std::size_t(W)), h_(H), keep_(keep), lo_none_(lo_none), hi_none_(hi_none),
+          pad_lo_(w_ + 2), pad_hi_(w_ + 2), ring_lo_(3 * w_), ring_hi_(3 * w_), lo_(w_), hi_(w_) {}
+    // The spans of row y: lo()[x], hi()[x].
+    void row(int y) {
+        if (next_ < 0)
+            for (int r = std::max(0, y - 1); r <= y; ++r) row_span(r);
+        if (y + 1 < h_) row_span(y + 1);
+        next_ = y + 1;
+        const int ya = std::max(0, y - 1), yb = std::min(h_ - 1, y + 1);
+        std::copy_n(ring_lo_.data() + std::size_t(ya % 3) * w_, w_, lo_.data());
+        std::copy_n(ring_hi_.data() + std::size_t(ya % 3) * w_, w_, hi_.data());
+        float *lo = lo_.data(), *hi = hi_.data();
+        const std::size_t w = w_;
+        for (int yy = ya + 1; yy <= yb; ++yy) {
+            const float* rl = ring_lo_.data() + std::size_t(yy % 3) * w;
+            const float* rh = ring_hi_.data() + std::size_t(yy % 3) * w;
+            for (std::size_t x = 0; x < w; ++x) {
+                lo[x] = std::min(lo[x], rl[x]);
+                hi[x] = std::max(hi[x], rh[x]);
+            }
+        }
+    }
+    const float* lo() const { return lo_.data(); }
+    const float* hi() const { return hi_.data(); }
+
+private:
+    void row_span(int y) {
+        const float* d = d_ + std::size_t(y) * w_;
+        float *pl = pad_lo_.data(), *ph = pad_hi_.data();
+        const std::size_t w = w_;
+        const float ln = lo_none_, hn = hi_none_;
+        pl[0] = pl[w + 1] = ln;
+        ph[0] = ph[w + 1] = hn;
+        for (std::size_t x = 0; x < w; ++x) {
+            const bool k = keep_(d[x]);
+            pl[x + 1] = k ? d[x] : ln;
+            ph[x + 1] = k ? d[x] : hn;
+        }
+        float* lo = ring_lo_.data() + std::size_t(y % 3) * w;
+        float* hi = ring_hi_.data() + std::size_t(y % 3) * w;
+        for (std::size_t x = 0; x < w; ++x) {
+            lo[x] = std::min(std::min(pl[x], pl[x + 1]), pl[x + 2]);
+            hi[x] = std::max(std::max(ph[x], ph[x + 1]), ph[x + 2]);
+        }
+    }
+    const float* d_;
+    std::size_t w_;
+    int h_, next_ = -1;
+    Keep keep_;
+    float lo_none_, hi_none_;
+    std::vector<float> pad_lo_, pad_hi_, ring_lo_, ring_hi_, lo_, hi_;
+};
+
+}  // namespace
+
 std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int W, int H, double continuity,
                                             const Exec& exec) {
     std::vector<unsigned char> cand(depth.size(), 0);
@@ -37,67 +104,41 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
     };
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     parallel_for(exec, H, [&, W, H, flat_span](long r0, long r1) {
-    // The 3x3 span from each row's 3-wide minimum and maximum of its finite
-    // depths (+inf and 0 where none), rows y - 1 .. y + 1 kept in a ring:
-    // loops over whole rows that the compiler vectorises.
-    const std::size_t w = std::size_t(W);
-    std::vector<float> pad_lo(w + 2), pad_hi(w + 2), ring_lo(3 * w), ring_hi(3 * w), near(w), far(w);
-    std::vector<unsigned char> steep(w);
-    auto row_span = [&](int y) {
-        const float* d = depth.data() + std::size_t(y) * w;
-        pad_lo[0] = pad_lo[w + 1] = std::numeric_limits<float>::infinity();
-        pad_hi[0] = pad_hi[w + 1] = 0.0f;
-        for (std::size_t x = 0; x < w; ++x) {
-            const bool finite = std::abs(d[x]) <= std::numeric_limits<float>::max();
-            pad_lo[x + 1] = finite ? d[x] : std::numeric_limits<float>::infinity();
-            pad_hi[x + 1] = finite ? d[x] : 0.0f;
-        }
-        float* lo = ring_lo.data() + std::size_t(y % 3) * w;
-        float* hi = ring_hi.data() + std::size_t(y % 3) * w;
-        for (std::size_t x = 0; x < w; ++x) {
-            lo[x] = std::min(std::min(pad_lo[x], pad_lo[x + 1]), pad_lo[x + 2]);
-            hi[x] = std::max(std::max(pad_hi[x], pad_hi[x + 1]), pad_hi[x + 2]);
-        }
-    };
-    for (int y = std::max(0, int(r0) - 1); y < std::min(H, int(r0) + 1); ++y) row_span(y);
-    for (int y = int(r0); y < int(r1); ++y) {
-        if (y + 1 < H) row_span(y + 1);
-        const int ya = std::max(0, y - 1), yb = std::min(H - 1, y + 1);
-        std::copy_n(ring_lo.data() + std::size_t(ya % 3) * w, w, near.data());
-        std::copy_n(ring_hi.data() + std::size_t(ya % 3) * w, w, far.data());
-        for (int yy = ya + 1; yy <= yb; ++yy) {
-            const float* lo = ring_lo.data() + std::size_t(yy % 3) * w;
-            const float* hi = ring_hi.data() + std::size_t(yy % 3) * w;
-            for (std::size_t x = 0; x < w; ++x) {
-                near[x] = std::min(near[x], lo[x]);
-                far[x] = std::max(far[x], hi[x]);
-            }
-        }
-        for (std::size_t x = 0; x < w; ++x) steep[x] = double(far[x]) > double(near[x]) * flat_span;
-        for (int x = 0; x < W; ++x) {
-            if (!steep[std::size_t(x)]) continue;
-            const double d = inv(x, y);
-            if (std::isnan(d)) continue;
-            for (const auto& dir : dirs) {
-                // Along a line through the pixel: one side nearer, the other
-                // farther, each by more than `continuity` (sky and holes have
-                // no depth to mix with) ...
-                const double a = inv(x - dir[0], y - dir[1]), b = inv(x + dir[0], y + dir[1]);
-                if (std::isnan(a) || std::isnan(b)) continue;
-                const double hi = std::max(a, b), lo = std::min(a, b);
-                if (!(hi > d * continuity && d > lo * continuity)) continue;
-                // ... and the two sides much flatter than the jump: a step with
-                // one pixel between, not a surface receding steeply (a floor at
-                // a grazing angle, where 1/depth is a straight ramp).
-                const double a2 = inv(x - 2 * dir[0], y - 2 * dir[1]), b2 = inv(x + 2 * dir[0], y + 2 * dir[1]);
-                const double sa = std::isnan(a2) ? 0.0 : std::abs(a2 - a), sb = std::isnan(b2) ? 0.0 : std::abs(b2 - b);
-                if (sa + sb < 0.5 * (hi - lo)) {
-                    cand[std::size_t(y) * w + std::size_t(x)] = 1;
-                    break;
+        // The 3x3 span of the finite depths (+inf and 0 where none).
+        auto finite = [](float v) { return std::abs(v) <= std::numeric_limits<float>::max(); };
+        Span3x3 span(depth, W, H, finite, std::numeric_limits<float>::infinity(), 0.0f);
+        const std::size_t w = std::size_t(W);
+        std::vector<unsigned char> steep(w);
+        for (int y = int(r0); y < int(r1); ++y) {
+            span.row(y);
+            const float *near = span.lo(), *far = span.hi();
+            for (std::size_t x = 0; x < w; ++x) steep[x] = double(far[x]) > double(near[x]) * flat_span;
+            for (int x = 0; x < W; ++x) {
+                if (!steep[std::size_t(x)]) continue;
+                const double d = inv(x, y);
+                if (std::isnan(d)) continue;
+                for (const auto& dir : dirs) {
+                    // Along a line through the pixel: one side nearer, the other
+                    // farther, each by more than `continuity` (sky and holes have
+                    // no depth to mix with) ...
+                    const double a = inv(x - dir[0], y - dir[1]), b = inv(x + dir[0], y + dir[1]);
+                    if (std::isnan(a) || std::isnan(b)) continue;
+                    const double hi = std::max(a, b), lo = std::min(a, b);
+                    if (!(hi > d * continuity && d > lo * continuity)) continue;
+                    // ... and the two sides much flatter than the jump: a step with
+                    // one pixel between, not a surface receding steeply (a floor at
+                    // a grazing angle, where 1/depth is a straight ramp).
+                    const double a2 = inv(x - 2 * dir[0], y - 2 * dir[1]);
+                    const double b2 = inv(x + 2 * dir[0], y + 2 * dir[1]);
+                    const double sa = std::isnan(a2) ? 0.0 : std::abs(a2 - a);
+                    const double sb = std::isnan(b2) ? 0.0 : std::abs(b2 - b);
+                    if (sa + sb < 0.5 * (hi - lo)) {
+                        cand[std::size_t(y) * w + std::size_t(x)] = 1;
+                        break;
+                    }
                 }
             }
         }
-    }
     }, 16);
     return cand;
 }
@@ -165,44 +206,17 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
             }
     };
     parallel_for(exec, H, [&, W, H, mixed_step](long r0, long r1) {
-        // A first look at every pixel's 3x3 span from rows' 3-wide minima and
-        // maxima of the non-hole depths (whole-row loops the compiler
-        // vectorises, rows y - 1 .. y + 1 in a ring); only a pixel whose span
-        // reaches a step is looked at again, exactly, below.
-        const std::size_t w = std::size_t(W);
+        // A first look at every pixel's 3x3 span of the depths that are not
+        // holes (sky counts: it is farthest); only a pixel whose span reaches
+        // a step is looked at again, exactly, below.
+        auto not_hole = [](float v) { return v == v; };
         constexpr float kInfF = std::numeric_limits<float>::infinity();
-        std::vector<float> pad_lo(w + 2), pad_hi(w + 2), ring_lo(3 * w), ring_hi(3 * w), lo3(w), hi3(w);
+        Span3x3 span(depth, W, H, not_hole, kInfF, -kInfF);
+        const std::size_t w = std::size_t(W);
         std::vector<unsigned char> step(w);
-        auto row_span = [&](int y) {
-            const float* d = depth.data() + std::size_t(y) * w;
-            pad_lo[0] = pad_lo[w + 1] = kInfF;
-            pad_hi[0] = pad_hi[w + 1] = -kInfF;
-            for (std::size_t x = 0; x < w; ++x) {
-                const bool hole = d[x] != d[x];  // NaN
-                pad_lo[x + 1] = hole ? kInfF : d[x];
-                pad_hi[x + 1] = hole ? -kInfF : d[x];
-            }
-            float* lo = ring_lo.data() + std::size_t(y % 3) * w;
-            float* hi = ring_hi.data() + std::size_t(y % 3) * w;
-            for (std::size_t x = 0; x < w; ++x) {
-                lo[x] = std::min(std::min(pad_lo[x], pad_lo[x + 1]), pad_lo[x + 2]);
-                hi[x] = std::max(std::max(pad_hi[x], pad_hi[x + 1]), pad_hi[x + 2]);
-            }
-        };
-        for (int y = std::max(0, int(r0) - 1); y < std::min(H, int(r0) + 1); ++y) row_span(y);
         for (int y = int(r0); y < int(r1); ++y) {
-            if (y + 1 < H) row_span(y + 1);
-            const int ya = std::max(0, y - 1), yb = std::min(H - 1, y + 1);
-            std::copy_n(ring_lo.data() + std::size_t(ya % 3) * w, w, lo3.data());
-            std::copy_n(ring_hi.data() + std::size_t(ya % 3) * w, w, hi3.data());
-            for (int yy = ya + 1; yy <= yb; ++yy) {
-                const float* lo = ring_lo.data() + std::size_t(yy % 3) * w;
-                const float* hi = ring_hi.data() + std::size_t(yy % 3) * w;
-                for (std::size_t x = 0; x < w; ++x) {
-                    lo3[x] = std::min(lo3[x], lo[x]);
-                    hi3[x] = std::max(hi3[x], hi[x]);
-                }
-            }
+            span.row(y);
+            const float *lo3 = span.lo(), *hi3 = span.hi();
             // The window holds the pixel itself, so its span is the exact
             // test's but for the sign of a zero, which no comparison sees.
             for (std::size_t x = 0; x < w; ++x) step[x] = double(hi3[x]) >= double(lo3[x]) * mixed_step;
