@@ -81,26 +81,42 @@ Grid build_level(const float* const planes[4], const RadiusMap& radius, const Ro
     const Roi w = intersect(g.win, needed);  // only the cells that are solved
     const int W = work.width();
     parallel_for(exec, w.height(), [&](long y0, long y1) {
+        // A row of cells at a time, its pixel rows streamed in order: each
+        // cell's sums take its pixels row by row, left to right, as a cell at
+        // a time would.
+        const std::size_t ncell = std::size_t(w.width());
+        std::vector<double> sums(5 * ncell);  // per cell: 4 colours, then R^2
+        std::vector<int> kept(ncell);         // per cell: the pixels kept
+        const float* rad = radius.data();
+        const float* pl[4] = {planes[0], planes[1], planes[2], planes[3]};
         for (long yl = y0; yl < y1; ++yl) {
             const int Y = w.y0 + int(yl);
             const int ya = std::max(work.y0, Y * s), yb = std::min(work.y1, (Y + 1) * s);
-            for (int X = w.x0; X < w.x1; ++X) {
-                const int xa = std::max(work.x0, X * s), xb = std::min(work.x1, (X + 1) * s);
-                double c[4] = {0, 0, 0, 0};
-                int kept = 0;
-                double d_sum = 0.0;  // diffusivity ~ R^2: the cell's radius is their RMS
-                for (int y = ya; y < yb; ++y)
+            std::fill(sums.begin(), sums.end(), 0.0);
+            std::fill(kept.begin(), kept.end(), 0);
+            for (int y = ya; y < yb; ++y) {
+                const std::size_t row = std::size_t(y - work.y0) * std::size_t(W);
+                for (int X = w.x0; X < w.x1; ++X) {
+                    const int xa = std::max(work.x0, X * s), xb = std::min(work.x1, (X + 1) * s);
+                    double* c = sums.data() + 5 * std::size_t(X - w.x0);
+                    int k_cell = 0;
                     for (int x = xa; x < xb; ++x) {
-                        const std::size_t i = std::size_t(y - work.y0) * std::size_t(W) + std::size_t(x - work.x0);
-                        if (!(radius[i] >= keep)) continue;
-                        ++kept;
-                        for (int k = 0; k < 4; ++k) c[k] += double(planes[k][i]);
-                        d_sum += double(radius[i]) * double(radius[i]);
+                        const std::size_t i = row + std::size_t(x - work.x0);
+                        if (!(rad[i] >= keep)) continue;
+                        ++k_cell;
+                        for (int k = 0; k < 4; ++k) c[k] += double(pl[k][i]);
+                        c[4] += double(rad[i]) * double(rad[i]);
                     }
+                    kept[std::size_t(X - w.x0)] += k_cell;
+                }
+            }
+            for (int X = w.x0; X < w.x1; ++X) {
+                const double* c = sums.data() + 5 * std::size_t(X - w.x0);
+                const int kc = kept[std::size_t(X - w.x0)];
                 const std::size_t o = g.at(X, Y);
-                g.area[o] = float(kept) / float(s * s);
-                g.radius[o] = kept ? float(std::sqrt(d_sum / kept)) : 0.0f;
-                for (int k = 0; k < 4; ++k) g.plane(k)[o] = kept ? float(c[k] / kept) : 0.0f;
+                g.area[o] = float(kc) / float(s * s);
+                g.radius[o] = kc ? float(std::sqrt(c[4] / kc)) : 0.0f;
+                for (int k = 0; k < 4; ++k) g.plane(k)[o] = kc ? float(c[k] / kc) : 0.0f;
             }
         }
     });
