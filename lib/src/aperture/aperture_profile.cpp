@@ -65,9 +65,9 @@ Result<ApertureProfile> ApertureProfile::create(const Aperture& a) {
                 if (inside(a, u, v)) {
                     any = true;
                     l = k == 0 ? -1.0 : edge(a, v, u - fine, u);
-                    double last = u;
-                    while (last + fine <= 1.0 && inside(a, last + fine, v)) last += fine;
-                    r = last + fine > 1.0 ? 1.0 : edge(a, v, last + fine, last);
+                    double end = u;  // the last inside point of the fine scan
+                    while (end + fine <= 1.0 && inside(a, end + fine, v)) end += fine;
+                    r = end + fine > 1.0 ? 1.0 : edge(a, v, end + fine, end);
                 }
             }
         }

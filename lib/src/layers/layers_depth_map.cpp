@@ -257,27 +257,38 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     };
     std::vector<Extent> band_extent(std::size_t(nbands) * std::size_t(ns));
     parallel_for(exec, nbands, [&](long b0, long b1) {
+        // Per row, each slice's first and last column (a box per row, not per
+        // pixel); depth ranges per pixel (min and max: any order).
+        std::vector<int> xlo(static_cast<std::size_t>(ns)), xhi(static_cast<std::size_t>(ns));
+        const int* sl = L->slice_.data();
+        const int* fg = L->fg_slice_.data();
+        std::uint16_t* hidden = plan.hidden_from.data();
         for (long b = b0; b < b1; ++b) {
             Extent* e = band_extent.data() + std::size_t(b) * std::size_t(ns);
-            for (int y = int(b) * kBand; y < std::min(H, int(b + 1) * kBand); ++y)
+            for (int y = int(b) * kBand; y < std::min(H, int(b + 1) * kBand); ++y) {
+                std::fill(xlo.begin(), xlo.end(), W);
+                std::fill(xhi.begin(), xhi.end(), -1);
                 for (int x = 0; x < W; ++x) {
                     const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                     for (int k = 0; k < 2; ++k) {
-                        const int s = k == 0 ? L->slice_[i] : L->fg_slice_[i];
+                        const int s = k == 0 ? sl[i] : fg[i];
                         if (s < 0) continue;
-                        Part p;
+                        Part p{};  // always set: the pixel is in slice s
                         L->part_of(i, s, p);
+                        xlo[std::size_t(s)] = std::min(xlo[std::size_t(s)], x);
+                        xhi[std::size_t(s)] = x;
                         Extent& x_e = e[s];
-                        Roi& bx = x_e.box;
-                        bx = bx.empty() ? Roi{win.x0 + x, win.y0 + y, win.x0 + x + 1, win.y0 + y + 1}
-                                        : Roi{std::min(bx.x0, win.x0 + x), std::min(bx.y0, win.y0 + y),
-                                              std::max(bx.x1, win.x0 + x + 1), std::max(bx.y1, win.y0 + y + 1)};
                         x_e.znear = std::min(x_e.znear, double(p.z));
                         x_e.zfar = std::max(x_e.zfar, double(p.z));
                         if (covers(p.rgb[0], p.rgb[1], p.rgb[2], p.alpha))
-                            plan.hidden_from[i] = std::min(plan.hidden_from[i], std::uint16_t(s + 1));
+                            hidden[i] = std::min(hidden[i], std::uint16_t(s + 1));
                     }
                 }
+                for (int s = 0; s < ns; ++s)
+                    if (xhi[std::size_t(s)] >= 0)
+                        e[s].box = unite(e[s].box, Roi{win.x0 + xlo[std::size_t(s)], win.y0 + y,
+                                                       win.x0 + xhi[std::size_t(s)] + 1, win.y0 + y + 1});
+            }
         }
     });
     L->box_.assign(std::size_t(ns), Roi{});
