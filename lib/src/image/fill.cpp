@@ -68,43 +68,48 @@ Level push(int fw, int fh, const float* fweight, std::span<const float* const> f
     c.values.resize(std::size_t(nc) * cn);
     parallel_for(exec, c.h, [&](long y0, long y1) {
         // Per coarse pixel of the row: its four fine pixels' weights (0 where
-        // absent) and indices.
-        std::vector<float> w4(4 * std::size_t(c.w)), wsum(std::size_t(c.w));
-        std::vector<std::size_t> src(4 * std::size_t(c.w));
+        // absent), in the order (0, 0), (1, 0), (0, 1), (1, 1), and their sum.
+        // Pointers and sizes in locals: the stores may alias what is reached
+        // through a reference.
+        const int cw = c.w;
+        std::vector<float> w4(4 * static_cast<std::size_t>(cw)), wsum(static_cast<std::size_t>(cw));
+        float* w4p = w4.data();
+        float* wsp = wsum.data();
+        auto clamp_w = [level0](float w) { return level0 ? (w > 0.0f ? std::min(w, 1.0f) : 0.0f) : w; };
         for (long yl = y0; yl < y1; ++yl) {
             const int y = int(yl);
-            for (int x = 0; x < c.w; ++x) {
-                float sum = 0.0f;
-                for (int k = 0; k < 4; ++k) {
-                    const int fx = 2 * x + (k & 1), fy = 2 * y + (k >> 1);
-                    float w = 0.0f;
-                    std::size_t fi = 0;
-                    if (fx < fw && fy < fh) {
-                        fi = std::size_t(fy) * std::size_t(fw) + std::size_t(fx);
-                        w = fweight[fi];
-                        if (level0) w = w > 0.0f ? std::min(w, 1.0f) : 0.0f;
-                    }
-                    w4[4 * std::size_t(x) + std::size_t(k)] = w;
-                    src[4 * std::size_t(x) + std::size_t(k)] = fi;
-                    sum += w;
-                }
-                wsum[std::size_t(x)] = sum;
-                c.weight[std::size_t(y) * std::size_t(c.w) + std::size_t(x)] = std::min(1.0f, sum);
+            const bool row1 = 2 * y + 1 < fh;
+            const float* f0 = fweight + std::size_t(2 * y) * std::size_t(fw);
+            const float* f1 = row1 ? f0 + fw : nullptr;
+            float* cwt = c.weight.data() + std::size_t(y) * std::size_t(cw);
+            for (int x = 0; x < cw; ++x) {
+                const bool col1 = 2 * x + 1 < fw;
+                float* w = w4p + 4 * std::size_t(x);
+                w[0] = clamp_w(f0[2 * x]);
+                w[1] = col1 ? clamp_w(f0[2 * x + 1]) : 0.0f;
+                w[2] = row1 ? clamp_w(f1[2 * x]) : 0.0f;
+                w[3] = row1 && col1 ? clamp_w(f1[2 * x + 1]) : 0.0f;
+                const float sum = ((w[0] + w[1]) + w[2]) + w[3];
+                wsp[x] = sum;
+                cwt[x] = std::min(1.0f, sum);
             }
             for (int k = 0; k < nc; ++k) {
-                const float* v = fplanes[std::size_t(k)];
-                float* out = c.plane(k) + std::size_t(y) * std::size_t(c.w);
-                for (int x = 0; x < c.w; ++x) {
-                    const float sum = wsum[std::size_t(x)];
+                const float* v0 = fplanes[std::size_t(k)] + std::size_t(2 * y) * std::size_t(fw);
+                const float* v1 = v0 + fw;  // read only where the weight below is > 0
+                float* out = c.plane(k) + std::size_t(y) * std::size_t(cw);
+                for (int x = 0; x < cw; ++x) {
+                    const float sum = wsp[x];
                     // Nothing known below (most of a layer's frame): no reads, and
                     // no write either: a pixel of weight 0 is read only after a
                     // pull has written it (every tap a pull reads is pulled first).
                     if (!(sum > 0.0f)) continue;
-                    const float* w = &w4[4 * std::size_t(x)];
-                    const std::size_t* i = &src[4 * std::size_t(x)];
-                    float acc = 0.0f;
+                    const float* w = w4p + 4 * std::size_t(x);
                     // Unknown fine values may be anything (NaN): never multiplied in.
-                    for (int q = 0; q < 4; ++q) acc += w[q] > 0.0f ? w[q] * v[i[q]] : 0.0f;
+                    float acc = 0.0f;
+                    acc += w[0] > 0.0f ? w[0] * v0[2 * x] : 0.0f;
+                    acc += w[1] > 0.0f ? w[1] * v0[2 * x + 1] : 0.0f;
+                    acc += w[2] > 0.0f ? w[2] * v1[2 * x] : 0.0f;
+                    acc += w[3] > 0.0f ? w[3] * v1[2 * x + 1] : 0.0f;
                     out[x] = acc / sum;
                 }
             }

@@ -94,14 +94,13 @@ BackgroundOwners background_owners(std::span<const int> slice, std::span<const i
                                    int W, int H, const Exec& exec, double bound) {
     const std::size_t n = slice.size();
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    // A pixel's front: its nearest slice (the nearer of slice and fg_slice),
-    // -1 where it has no sample.
     // Emptiness (no sample at all: a render's transparent sky) is the
     // farthest candidate: a strip of wall next to it has nothing behind it
     // there, and a copy of the next strip would blur out over it a second time.
-    // Per pixel: its front slice + 1 (0: none; at most 65535 slices, as the
-    // extension plan), and the nearest slice behind the front so far, at
-    // its distance: the owner and distance being found, set in the pass below.
+    // Per pixel: its front (its nearest slice, the nearer of slice and
+    // fg_slice) + 1 (0: no sample; at most 65535 slices, as the extension
+    // plan), and the nearest slice behind the front so far, at its distance:
+    // the owner and distance being found, set in the pass below.
     BackgroundOwners out;
     FrameBuffer<int>& best_k = out.owner;
     FrameBuffer<float>& best = out.distance;

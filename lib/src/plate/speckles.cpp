@@ -115,19 +115,32 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
     });
     for (int b = 1; b < nbands; ++b)
         for (int x = 0; x < W; ++x) join_below(x, b * kBand - 1);
-    // Roots without path compression (reads only, so in parallel).
-    FrameBuffer<int> root(n);  // every element set below
+    // Whether each pixel is in a small component, and the roots of those
+    // (unset elsewhere): found without path compression (reads only, so in
+    // parallel), once per run of pixels with the same parent.
+    FrameBuffer<unsigned char> is_small(n);  // every element set below
+    FrameBuffer<int> root(n);                // set where is_small
     parallel_for(exec, H, [&](long y0, long y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W); ++i) {
-            int r = int(i);
-            while (uf.parent[std::size_t(r)] != r) r = uf.parent[std::size_t(r)];
-            root[i] = r;
+        const int* parent = uf.parent.data();
+        const int* size = uf.size.data();
+        unsigned char* sm = is_small.data();
+        int* rt = root.data();
+        const int limit = max_px;
+        for (std::size_t i = std::size_t(y0) * std::size_t(W); i < std::size_t(y1) * std::size_t(W);) {
+            const int p = parent[i];
+            int r = p;
+            while (parent[std::size_t(r)] != r) r = parent[std::size_t(r)];
+            const bool small = size[std::size_t(r)] <= limit;
+            for (; i < std::size_t(y1) * std::size_t(W) && parent[i] == p; ++i) {
+                sm[i] = small ? 1 : 0;
+                if (small) rt[i] = r;
+            }
         }
     }, 16);
-    auto small = [&](std::size_t i) { return uf.size[std::size_t(root[i])] <= max_px; };
     // Per small component: how many of its outside neighbours there are, and
-    // how many lie in large components. Small components are few: each row
-    // lists its pixels' counts, summed per component after.
+    // how many lie in large components (a large neighbour is in another
+    // component). Small components are few: each row lists its pixels'
+    // counts, summed per component after.
     struct Count {
         int root, all, big;
     };
@@ -136,16 +149,16 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-                if (std::isnan(depth[i]) || !small(i)) continue;
+                if (!is_small[i] || std::isnan(depth[i])) continue;
                 Count c{root[i], 0, 0};
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
                         const int xx = x + dx, yy = y + dy;
                         if ((dx == 0 && dy == 0) || xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
                         const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
-                        if (std::isnan(depth[j]) || root[j] == root[i]) continue;
+                        if (std::isnan(depth[j]) || (is_small[j] && root[j] == root[i])) continue;
                         ++c.all;
-                        if (!small(j)) ++c.big;
+                        if (!is_small[j]) ++c.big;
                     }
                 if (c.all) row_counts[std::size_t(y)].push_back(c);
             }
@@ -160,7 +173,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
     parallel_for(exec, H, [&](long y0, long y1) {
         for (long y = y0; y < y1; ++y)
             for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i) {
-                if (std::isnan(depth[i]) || keep[i] || !small(i)) continue;
+                if (!is_small[i] || std::isnan(depth[i]) || keep[i]) continue;
                 const auto it = comp.find(root[i]);
                 if (it == comp.end()) continue;
                 const int all = it->second.first, big = it->second.second;
