@@ -274,10 +274,15 @@ std::vector<Taps> axis_taps(int p0, int p1, int scale, int lo, int hi, int blo, 
     return out;
 }
 
+// A returned row holds, per cell, the 4 colour planes times area, then the
+// area, side by side (kReturnStride floats per cell, padded with 0, so that a
+// pixel's taps are whole short vectors).
+constexpr std::size_t kReturnStride = 8;
+
 // The vertical sums of one work row over a level's solved box (BW cells
 // wide, n cells, 4 planes of `sol`, the kept `area`): per cell the four taps'
-// colour times area, and the area, into row[8 X + c] (c = 4: the area; 5-7
-// padding, 0). Summed plane by plane along the row (loops the compiler
+// colour times area, and the area, into row[kReturnStride X + c] (c = 4: the
+// area; 5-7 padding, 0). Summed plane by plane along the row (loops the compiler
 // vectorises, into `scratch`), each element in the same order as a cell at
 // a time, then interleaved.
 GDOF_CLONES
@@ -299,11 +304,10 @@ void vertical_sums(const Taps& t, const float* sol, const float* area, std::size
         float* o = scratch.data() + 4 * BW;
         for (std::size_t X = 0; X < BW; ++X) o[X] += wa[X];
     }
-    row.resize(8 * BW);
+    row.resize(kReturnStride * BW);
     for (std::size_t X = 0; X < BW; ++X) {
-        float* o = row.data() + 8 * X;
-        for (int c = 0; c < 5; ++c) o[c] = scratch[std::size_t(c) * BW + X];
-        o[5] = o[6] = o[7] = 0.0f;
+        float* o = row.data() + kReturnStride * X;
+        for (std::size_t c = 0; c < kReturnStride; ++c) o[c] = c < 5 ? scratch[c * BW + X] : 0.0f;
     }
 }
 
@@ -327,10 +331,7 @@ struct LevelReturn {
             std::copy_n(level.area.data() + level.at(b.x0, Y), b.width(),
                         area.data() + std::size_t(Y - b.y0) * std::size_t(b.width()));
     }
-    // Sums over the box's columns for work row yl: per cell, the 4 colour
-    // planes times area, then the area, side by side (kRowStride floats per
-    // cell, so that a pixel's taps are whole short vectors).
-    static constexpr std::size_t kRowStride = 8;
+    // Sums over the box's columns for work row yl (vertical_sums).
     void vertical(int yl, std::vector<float>& row, std::vector<float>& scratch) const {
         vertical_sums(rows[std::size_t(yl)], sol->data(), area.data(), std::size_t(box.width()), box.npixels(), row,
                       scratch);
@@ -345,7 +346,7 @@ struct LevelReturn {
         Vec8 sum = {0, 0, 0, 0, 0, 0, 0, 0};
         for (int k = 0; k < 4; ++k) {
             Vec8 v;
-            std::memcpy(&v, row.data() + kRowStride * std::size_t(t.at[k]), sizeof v);
+            std::memcpy(&v, row.data() + kReturnStride * std::size_t(t.at[k]), sizeof v);
             sum += t.w[k] * v;
         }
         const float den = sum[4];

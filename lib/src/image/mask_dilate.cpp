@@ -8,10 +8,11 @@ namespace gdof::image_detail {
 
 namespace {
 
-// A small reach (a coverage rim, the pyramid's reach): per band of rows, each row ORed over 2m + 1
-// columns, then each output row the OR of 2m + 1 of those rows. Byte ORs
-// over whole rows, which the compiler vectorises, and the band's rows stay
-// in cache; the m rows at a band's ends are done twice, once per band.
+// A small reach (a coverage rim, the pyramid's reach): per band of rows,
+// each row ORed over 2m + 1 columns, then each output row the OR of 2m + 1
+// of those rows. Byte ORs over whole rows, which the compiler vectorises,
+// and the band's rows stay in cache; the m rows at a band's ends are done
+// twice, once per band.
 constexpr int kSmallReach = 24;  // beyond it the scans below cost less (4K: equal near 32)
 constexpr int kBandRows = 32;
 

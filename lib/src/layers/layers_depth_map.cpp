@@ -368,9 +368,8 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
     const bool done = parallel_for(exec, box.height(), [&](long r0, long r1) {
         // Each row blank first (RGBA 0, Z and P NaN: whole-row fills), then
         // the slice's pixels written over it.
-        const int nch = out.nchannels();
-        std::array<float*, 8> op{};
-        for (int c = 0; c < std::min(8, nch); ++c) op[std::size_t(c)] = out.plane(c);
+        const int nch = std::min(8, out.nchannels());
+        const std::array<float*, 8> op = layer_planes(out);
         const int* sl = slice_.data();
         const int* fg = fg_slice_.data();
         const unsigned char* ct = cont.empty() ? nullptr : cont.data();
@@ -378,7 +377,7 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
         for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y) {
             const std::size_t orow = out.offset(box.x0, y);
             const std::size_t irow = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(box.x0 - win.x0);
-            for (int c = 0; c < std::min(8, nch); ++c) std::fill_n(op[std::size_t(c)] + orow, bw, c < 4 ? 0.0f : kNaN);
+            for (int c = 0; c < nch; ++c) std::fill_n(op[std::size_t(c)] + orow, bw, blank_layer_value(c));
             for (int x = 0; x < bw; ++x) {
                 const std::size_t i = irow + std::size_t(x), o = orow + std::size_t(x);
                 const bool continued = ct && ct[i];

@@ -204,8 +204,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
         const float* alpha_p = alpha.data();
         float *wc = wcol.data(), *wg = wgeo.data();
         std::array<float*, 7> fp = fill;
-        std::array<const float*, 8> sp{};
-        for (int c = 0; c < std::min(8, src.nchannels()); ++c) sp[std::size_t(c)] = src.plane(c);
+        const std::array<const float*, 8> sp = layer_planes(src);
         for (int y = int(r0); y < int(r1); ++y) {
             const std::size_t wrow = std::size_t(y) * std::size_t(ww);
             std::fill_n(wc + wrow, ww, 0.0f);
@@ -292,7 +291,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                     float* row = out.plane(c) + out.offset(box.x0, y);
                     const bool in_old = y >= old.y0 && y < old.y1 && !old.empty();
                     const int xa = in_old ? old.x0 : box.x1, xb = in_old ? old.x1 : box.x1;
-                    const float blank = c >= 4 ? kNaN : 0.0f;
+                    const float blank = blank_layer_value(c);
                     std::fill(row, row + (xa - box.x0), blank);
                     if (in_old) std::copy_n(src.plane(c) + src.offset(old.x0, y), old.width(), row + (xa - box.x0));
                     std::fill(row + (xb - box.x0), row + box.width(), blank);
@@ -306,8 +305,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
         const unsigned char* ext_p = ext.data();
         const float* cover_p = coverage_continues ? cover.data() : nullptr;
         const std::array<float*, 7> fp = fill;
-        std::array<float*, 8> op{};
-        for (int c = 0; c < std::min(8, out.nchannels()); ++c) op[std::size_t(c)] = out.plane(c);
+        const std::array<float*, 8> op = layer_planes(out);
         for (int y = int(r0); y < int(r1); ++y) {
             const std::size_t wrow = std::size_t(y) * std::size_t(ww);
             const std::size_t orow = out.offset(work.x0, work.y0 + y);

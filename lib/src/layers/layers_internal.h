@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -115,12 +116,23 @@ Result<std::vector<Layer>> make_all(const LayerSource& source, const Exec& exec)
 // positions), with the source's display window, metadata and view, named
 // `name`. Left unset: its maker writes every pixel, in parallel (a frame-
 // sized layer zeroed first is a serial pass over fresh memory), the pixels
-// that hold nothing with blank_layer_pixel.
+// that hold nothing with blank_layer_value (blank_layer_pixel).
 Image layer_image(bool with_positions, const Roi& box, const Roi& display, const Metadata& metadata,
                   const std::string& name, const std::string& view);
-// A pixel of a layer image that holds nothing: RGBA 0, Z and P NaN.
+// What channel c of a layer pixel that holds nothing is: RGBA 0, Z and P NaN.
+inline float blank_layer_value(int c) { return c < 4 ? 0.0f : kNaN; }
 inline void blank_layer_pixel(Image& img, std::size_t offset) {
-    for (int c = 0; c < img.nchannels(); ++c) img.plane(c)[offset] = c < 4 ? 0.0f : kNaN;
+    for (int c = 0; c < img.nchannels(); ++c) img.plane(c)[offset] = blank_layer_value(c);
+}
+// The planes of a layer image (R, G, B, A, Z, P.x, P.y, P.z; null beyond its
+// channels), for loops that keep them in locals: a store may alias anything
+// of its type reached through a reference, so plane() would be looked up
+// again per pixel.
+template <class Img>
+auto layer_planes(Img& img) {
+    std::array<decltype(img.plane(0)), 8> p{};
+    for (int c = 0; c < std::min(8, img.nchannels()); ++c) p[std::size_t(c)] = img.plane(c);
+    return p;
 }
 
 // "depth 2.1-3.4"

@@ -37,10 +37,10 @@ public:
           pad_lo_(w_ + 2), pad_hi_(w_ + 2), ring_lo_(3 * w_), ring_hi_(3 * w_), lo_(w_), hi_(w_) {}
     // The spans of row y: lo()[x], hi()[x].
     void row(int y) {
-        if (next_ < 0)
+        if (!primed_)
             for (int r = std::max(0, y - 1); r <= y; ++r) row_span(r);
         if (y + 1 < h_) row_span(y + 1);
-        next_ = y + 1;
+        primed_ = true;
         const int ya = std::max(0, y - 1), yb = std::min(h_ - 1, y + 1);
         std::copy_n(ring_lo_.data() + std::size_t(ya % 3) * w_, w_, lo_.data());
         std::copy_n(ring_hi_.data() + std::size_t(ya % 3) * w_, w_, hi_.data());
@@ -80,7 +80,8 @@ private:
     }
     const float* d_;
     std::size_t w_;
-    int h_, next_ = -1;
+    int h_;
+    bool primed_ = false;  // the ring holds the rows before the one asked for
     Keep keep_;
     float lo_none_, hi_none_;
     std::vector<float> pad_lo_, pad_hi_, ring_lo_, ring_hi_, lo_, hi_;
