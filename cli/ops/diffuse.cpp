@@ -179,9 +179,10 @@ std::vector<Command> diffuse_commands() {
                  .run = [](Frame& f, const Step& s) { f.defocus.diffusion.solver = solver(s); },
                  .check = [](const Step& s) { solver(s); }});
     t.push_back({.names = {"--layers"}, .args = "N|auto[:OPTS]|id[:CHANNEL]", .kind = Kind::Modifier, .group = D,
-                 .help = "how --diffuse splits the input into layers: auto (depth clusters, also cut where the blur "
-                         "changes by more than max(2 px, largest/4)); options after auto: MAX layers, blur=PX, gaps (no "
-                         "blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel",
+                 .help = "how --diffuse splits the input into layers: auto (depth clusters, also cut by blur where "
+                         "a layer's blur would vary by more than max(2 px, largest/4); a plate under --diffuse only at "
+                         "silhouettes whose sides' blur differs by more); options after auto: MAX layers, blur=PX, gaps "
+                         "(no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel",
                  .run = [](Frame& f, const Step& s) { f.defocus.split = layer_split(s); },
                  .check = [](const Step& s) { layer_split(s); }});
     t.push_back({.names = {"--adi-steps"}, .args = "K", .kind = Kind::Modifier, .group = D,

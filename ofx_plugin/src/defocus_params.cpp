@@ -106,9 +106,10 @@ void describe_defocus_params(ParamDefiner& d) {
               "(as the CLI's --pyramid on); off: every layer at full resolution (the reference)");
     d.integer("layers", "Layers", 0, 0, 1024, "Depth layers: 0 = automatic (split at depth gaps), N = N slices even in 1/depth");
     d.boolean("cut_by_blur", "Cut Layers by Blur", true,
-              "Automatic layers only: also cut where the blur changes inside a continuous depth range (a ground "
-              "plane), so a blurred object in front of its sharp part spreads over it (the default, as the CLI's "
-              "--layers auto); off: cut at depth gaps only (--layers auto:gaps)");
+              "Automatic layers only: also cut by blur, so a blurred object in front of a sharper part of a "
+              "continuous depth range (a ground plane) spreads over it (plates under diffusion: at such "
+              "silhouettes only; the "
+              "default, as the CLI's --layers auto); off: cut at depth gaps only (--layers auto:gaps)");
     d.choice("analysis", "Layer Analysis", kAnalyses, 0,
              "frame: layers and blur are analysed on the whole source frame, so tiles match the full render; "
              "region: only the render region plus the blur margin is read (faster on large plates, tiles may differ "

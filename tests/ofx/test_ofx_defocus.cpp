@@ -43,7 +43,7 @@ TEST(ofx_defocus, FocalPlanesEqualCliDiffuseTo1e5) {
 
 // "Cut Layers by Blur" (on by default) is the CLI's default --layers auto,
 // off its auto:gaps: equal to each, and different from each other (the
-// plate's ground is a continuous depth range whose blur changes, so the cuts
+// plate's depth is continuous, and the cuts its blurred silhouettes need
 // add layers).
 TEST(ofx_defocus, CutByBlurEqualsCliAutoBlur) {
     Fixture f;

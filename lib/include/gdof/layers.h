@@ -73,14 +73,23 @@ struct LayerSplit {
         // depths), not touching either end, at least 0.05 wide in log depth
         // (a 5 % depth ratio); the widest max_layers - 1 gaps are kept, each
         // split at its middle. Then, when the caller gives each sample's
-        // blur radius (defocus does), every cluster is also cut where its
-        // blur changes: walking the histogram bins front to back, a new
-        // layer starts when the bins' mean radii since the last cut span
-        // more than blur_step px. So a continuous depth range (a ground
-        // plane) still gets layers where its blur varies, and occlusion
-        // inside it is kept; without radii, continuous depths give one layer.
-        // defocus cuts deep inputs by blur and depth maps only when asked
-        // (blur_cuts): see docs/diffusion.md for the measurements.
+        // blur radius (defocus does), layers are also cut by blur, so that a
+        // blurred object in front of a sharper part of the same continuous
+        // depth range (a ground plane) spreads over it:
+        //  - deep samples (no neighbours known): walking the histogram bins
+        //    front to back, a new layer starts when the bins' mean radii
+        //    since the last cut span more than blur_step px;
+        //  - depth maps (layers_from_depth_map; the same as deep samples
+        //    with SliceOptions::cut_at_silhouettes off): only at silhouettes, where
+        //    a pixel's neighbour is farther by more than `continuity` and
+        //    the nearer one's radius exceeds the farther's by more than
+        //    blur_step px (or the farther's the nearer's by 3 steps). The
+        //    fewest bounds that separate every such pair, each at the depth
+        //    that puts the least light behind a nearer part of the picture
+        //    within a blur radius (a continuous surface is cut only where a
+        //    silhouette needs it, and not just in front of a highlight).
+        // Without radii, continuous depths give one layer. See
+        // docs/diffusion.md for the measurements.
         Auto,
         // `count` layers of equal extent in 1/depth between the smallest and
         // largest positive finite depth (+inf counts as 1/depth = 0): even in
@@ -93,14 +102,14 @@ struct LayerSplit {
     Mode mode = Mode::Auto;
     int count = 8;
     int max_layers = 32;
-    // Auto: whether defocus cuts by blur. Default: deep inputs yes, flat
-    // depth maps no (their one depth per pixel mixes depths at edges, and
-    // thin cut slices of continuous surfaces there cost more than they gain).
+    // Auto: whether defocus cuts by blur. Default: yes, for deep inputs and
+    // depth maps alike; Off: gaps only.
     enum class BlurCuts { Default, On, Off };
     BlurCuts blur_cuts = BlurCuts::Default;
-    // Auto: the most a layer's (per-bin mean) blur radius may vary, px.
-    // 0 = automatic: max(2 px, largest radius / 4); raised until the layers
-    // fit in max_layers.
+    // Auto: the blur step, px: deep samples, the most a layer's (per-bin
+    // mean) radius may vary; depth maps, the radius difference across a
+    // silhouette that needs a bound. 0 = automatic: max(2 px, largest
+    // radius / 4); raised until the layers fit in max_layers.
     double blur_step = 0.0;
     std::string id_channel = "id";
 };
@@ -199,6 +208,13 @@ struct SliceOptions {
     const PlateDepth* depth = nullptr;
     bool continue_surfaces = false;
     double continuity = 1.05;  // neighbouring depth ratio within which a surface continues
+    // Auto's blur cuts (with `radius`): only at the silhouettes that need a
+    // bound (true: diffusion, which varies the blur within a layer and whose
+    // sharp pixels insulate), or wherever a slice's blur span would exceed
+    // the step, as for deep samples (false: the bokeh and PSF-field filters,
+    // whose spread is normalised within a layer and so mixes a layer's
+    // blurs).
+    bool cut_at_silhouettes = true;
 };
 GDOF_API Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                           const Exec& exec = {});

@@ -256,6 +256,7 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {
         so.radius = r;
         so.fg_radius = rf;
+        so.cut_at_silhouettes = settings.filter == DefocusFilter::Diffusion;
     }
     auto layers = depth_map_layer_source(flat, so, exec);
     if (!layers) return layers.status().prefix("defocus");

@@ -28,11 +28,7 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
                      double continuity, int reach, std::vector<unsigned char>& cont) {
     const std::size_t n = depth.size();
     cont.assign(n, 0);
-    auto continues = [&](std::size_t i, std::size_t j) {
-        const float a = depth[i], b = depth[j];
-        if (!std::isfinite(a) || !std::isfinite(b)) return false;
-        return double(std::max(a, b)) <= double(std::min(a, b)) * continuity;
-    };
+    auto continues = [&](std::size_t i, std::size_t j) { return same_surface(depth[i], depth[j], continuity); };
     auto nearer = [&](std::size_t j) {
         return present[j] && slice[j] >= 0 && slice[j] < s && (owner.empty() || owner[j] == s);
     };

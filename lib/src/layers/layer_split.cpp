@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "layers/layers_internal.h"
@@ -122,17 +123,6 @@ DepthSlices count_slices(double zmin, double zmax, bool any_inf, int count) {
     return s;
 }
 
-// Log-depth histogram shared by the gap search and the blur cuts.
-struct LogHistogram {
-    double vmin = 0, binw = 1;
-    long nbins = 0;
-    std::vector<std::size_t> count;
-    std::vector<double> rsum;         // sum of finite radii per bin
-    std::vector<std::size_t> rcount;  // number of finite radii per bin
-    long bin_of(double v) const { return std::clamp(long((v - vmin) / binw), 0L, nbins - 1); }
-    double edge_depth(long b) const { return std::exp(vmin + double(b) * binw); }
-};
-
 // Gap splits (depths), ascending: at most max_layers - 1 of the widest gaps.
 std::vector<double> gap_splits(const LogHistogram& h, std::size_t nsamples, int max_layers) {
     const std::size_t noise = std::size_t(double(nsamples) * kAutoNoiseFraction);
@@ -196,7 +186,7 @@ std::vector<double> blur_cuts(const LogHistogram& h, const std::vector<double>& 
 }
 
 DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float>& radii, double zmin, double zmax,
-                        bool any_inf, const LayerSplit& split) {
+                        bool any_inf, const LayerSplit& split, const SilhouetteGrid* grid, const Exec& exec) {
     DepthSlices single;
     single.lo = {zmin};
     single.hi = {any_inf ? kInf : zmax};
@@ -227,9 +217,11 @@ DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float
         for (long b = 0; b < h.nbins; ++b)
             if (h.rcount[std::size_t(b)]) rmax = std::max(rmax, h.rsum[std::size_t(b)] / double(h.rcount[std::size_t(b)]));
         double step = split.blur_step > 0.0 ? split.blur_step : std::max(kAutoBlurStepPx, rmax / kAutoBlurLayers);
+        std::optional<SilhouetteScan> scan;
+        if (grid) scan = scan_silhouettes(h, *grid, step, rmax, exec);
         std::vector<double> cuts;
         for (int tries = 0; tries < 200; ++tries, step *= 1.25) {
-            cuts = blur_cuts(h, bounds, step);
+            cuts = scan ? silhouette_cuts(h, *scan, bounds, step, zmax) : blur_cuts(h, bounds, step);
             if (bounds.size() + cuts.size() + 1 <= std::size_t(split.max_layers)) break;
             cuts.clear();
         }
@@ -256,7 +248,7 @@ DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float
 }  // namespace
 
 DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius,
-                          const Exec& exec) {
+                          const Exec& exec, const SilhouetteGrid* grid) {
     const bool is_auto = split.mode == LayerSplit::Mode::Auto;
     const bool with_radius = is_auto && radius.size() == depths.size() && !depths.empty();
     // Blocks in parallel: each its range, whether it saw +inf and how many
@@ -321,7 +313,7 @@ DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split
         return s;
     }
     if (split.mode == LayerSplit::Mode::Count) return count_slices(zmin, zmax, any_inf, split.count);
-    return auto_slices(logs, radii, zmin, zmax, any_inf, split);
+    return auto_slices(logs, radii, zmin, zmax, any_inf, split, with_radius ? grid : nullptr, exec);
 }
 
 }  // namespace layers_detail

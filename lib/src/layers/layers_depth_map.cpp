@@ -222,7 +222,26 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
             }
         }, 16);
     }
-    L->slices_ = choose_slices(sample_depths, options.split, sample_radii, exec);
+    SilhouetteGrid grid;
+    const bool at_silhouettes = radii && options.cut_at_silhouettes;
+    if (at_silhouettes) {
+        grid.width = W;
+        grid.height = H;
+        grid.depth = ps.depth.data();
+        grid.present = ps.present.data();
+        grid.radius = options.radius.data();
+        grid.continuity = options.continuity;
+        grid.rgb[0] = L->r_;
+        grid.rgb[1] = L->g_;
+        grid.rgb[2] = L->b_;
+        if (ps.parts)
+            for (std::size_t k = 0; k < ps.parts->size(); ++k) {
+                const MixedPixel& m = (*ps.parts)[k];
+                const float r = options.radius[m.index];
+                grid.fronts.push_back({m.fg_depth, options.fg_radius.empty() ? r : options.fg_radius[k], ps.depth[m.index], r});
+            }
+    }
+    L->slices_ = choose_slices(sample_depths, options.split, sample_radii, exec, at_silhouettes ? &grid : nullptr);
     sample_depths = {};
     sample_radii = {};
     const int ns = L->slices_.count();

@@ -52,12 +52,89 @@ constexpr double kAutoNoiseFraction = 2e-5;
 // largest bin-mean radius / kAutoBlurLayers), times 1.25 until the layers fit.
 constexpr double kAutoBlurStepPx = 2.0;
 constexpr double kAutoBlurLayers = 4.0;
+// Cuts at silhouettes (SilhouetteGrid): a sharper front over a more blurred
+// background needs a bound only when the background's radius exceeds the
+// front's by kReverseNeed steps (a more blurred front: by one step).
+constexpr double kReverseNeed = 3.0;
+
+// Two finite depths on one surface: within `continuity` of each other.
+inline bool same_surface(float a, float b, double continuity) {
+    if (!std::isfinite(a) || !std::isfinite(b)) return false;
+    return double(std::max(a, b)) <= double(std::min(a, b)) * continuity;
+}
+
+// A plate's pixels, for Auto's blur cuts at silhouettes (choose_slices).
+// Where two 4-neighbours' depths differ by more than `continuity` and the
+// nearer one's blur radius exceeds the farther's by more than the blur step
+// (or the farther's the nearer's by kReverseNeed steps), a slice bound must
+// lie between them: a blurred foreground then spreads over a sharper
+// background instead of being insulated by it. A continuous surface needs no
+// bound (diffusion varies its blur within a layer), and a bound through one
+// hides, under the nearer strip, the blurred light of the farther one (a lamp
+// just behind a bound on a ceiling loses the glow that falls on the nearer
+// strip). So the bounds are as few as the silhouettes allow, each at the
+// depth that puts the least light behind a nearer part of the picture within
+// a blur radius.
+struct SilhouetteGrid {
+    int width = 0, height = 0;
+    const float* depth = nullptr;  // row-major; finite or +inf (sky)
+    const unsigned char* present = nullptr;
+    const float* radius = nullptr;
+    const float* rgb[3] = {nullptr, nullptr, nullptr};  // the light a bound may hide
+    double continuity = 1.05;
+    // Mixed pixels: the foreground's depth and radius in front of the
+    // pixel's own (its background's).
+    struct Front {
+        float fg_depth, fg_radius, depth, radius;
+    };
+    std::vector<Front> fronts;
+};
+
+// Log-depth histogram (choose_slices) shared by the gap search and the blur cuts.
+struct LogHistogram {
+    double vmin = 0, binw = 1;
+    long nbins = 0;
+    std::vector<std::size_t> count;
+    std::vector<double> rsum;         // sum of finite radii per bin
+    std::vector<std::size_t> rcount;  // number of finite radii per bin
+    long bin_of(double v) const { return std::clamp(long((v - vmin) / binw), 0L, nbins - 1); }
+    double edge_depth(long b) const { return std::exp(vmin + double(b) * binw); }
+};
+
+// Blur cuts at a plate's silhouettes (SilhouetteGrid). A bound at histogram
+// edge e (1..nbins-1: edge_depth(e); nbins: beyond every finite depth, before
+// the sky) puts bins >= e in the farther slice.
+struct CutNeed {
+    long a = 0, f = 0;  // a bound at an edge e with a < e <= f separates the pair
+    float dr = 0;       // the largest need (need_weight) of the pairs that have it
+};
+struct SilhouetteScan {
+    // Per edge 0..nbins: the light (R + G + B) that a bound there puts behind
+    // a nearer part of the picture within `reach` (whose glow the nearer
+    // layer then hides: a lamp just behind a bound loses the half of its
+    // glow that falls on the nearer side; just in front of it, none).
+    std::vector<double> cost;
+    std::vector<CutNeed> needs;  // sorted by (a, f), one per pair of bins
+};
+
+// The needs of a plate's silhouettes whose weight exceeds min_step, and
+// the cost of a bound at each edge of `h` (light within `reach` px behind a
+// nearer part of the picture). The same for any thread count.
+SilhouetteScan scan_silhouettes(const LogHistogram& h, const SilhouetteGrid& grid, double min_step, double reach,
+                                const Exec& exec = {});
+// The bounds (depths, ascending) for the needs of `scan` above `step` that
+// the `gaps` (depths) leave unseparated; zmax: the largest finite depth.
+std::vector<double> silhouette_cuts(const LogHistogram& h, const SilhouetteScan& scan, const std::vector<double>& gaps,
+                                    double step, double zmax);
 
 // Slices for Auto / Count from the sample depths (NaN must be filtered out
 // by the caller; +inf and <= 0 are allowed and ignored when choosing).
-// `radius`: empty, or one blur radius per depth (Auto's blur cuts).
+// `radius`: empty, or one blur radius per depth (Auto's blur cuts). With a
+// `grid` (plates), Auto cuts by blur only at its silhouettes; without (deep
+// samples, which have no neighbours), wherever the slice's blur span would
+// exceed the step.
 DepthSlices choose_slices(std::span<const float> depths, const LayerSplit& split, std::span<const float> radius = {},
-                          const Exec& exec = {});
+                          const Exec& exec = {}, const SilhouetteGrid* grid = nullptr);
 
 // The pixels of nearer slices (slice[j] < s, owner[j] == s) that continue
 // slice s's surface (layers_from_depth_map): cont[j] = 1 for each, sized like
