@@ -43,7 +43,7 @@ struct DiffusionOptions {
     // Radii above this are an error (naming the value); radii are clamped to >= 0.
     double max_radius = 4096.0;
     // defocus(): solve each pixel's blur on the pyramid level where it is
-    // 2.5 .. 5 px and blend levels per pixel (docs/diffusion.md, "pyramid"),
+    // 3 .. 6 cells and blend levels per pixel (docs/diffusion.md, "pyramid"),
     // so a layer's cost stops growing with its largest blur. false: every
     // layer at full resolution (the reference). diffuse_planes ignores it.
     bool pyramid = true;

@@ -1,7 +1,7 @@
 // The fast solver: alternating-direction implicit Euler. Each of K sub-steps
 // solves (I - dt Lx) u' = u row by row, then (I - dt Ly) u'' = u' column by
 // column, each a symmetric tridiagonal system (Thomas algorithm) with the
-// conductances min(D_p, D_q) of the explicit solver. The matrices are
+// conductances of the explicit solver (min(D_p, D_q); conductance.h). The matrices are
 // M-matrices with unit column sums: unconditionally stable, positivity
 // preserving and conservative, at a cost independent of the blur size.
 // Every step has the exact variance; the kernel's shape approaches a
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/flush_denormals.h"
+#include "diffusion/conductance.h"
 #include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
 
@@ -63,13 +64,14 @@ namespace {
 
 // The solver on row-major planes of width x height.
 Status adi_kernel(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                  const DiffusionOptions& settings, const Exec& exec) {
+                  const DiffusionOptions& settings, const Exec& exec, diffusion_detail::Conductance rule) {
     const int W = width, H = height, nc = int(planes.size());
     float dmax = 0.0f;
     for (std::size_t i = 0; i < std::size_t(W) * std::size_t(H); ++i) dmax = std::max(dmax, diffusivity[i]);
     const int K = adi_steps_for(radius_from_diffusivity(dmax), settings);
     const double dt = 1.0 / K;
-    auto D = [&](int x, int y) { return double(diffusivity[std::size_t(y) * std::size_t(W) + std::size_t(x)]); };
+    auto D = [&](int x, int y) { return diffusivity[std::size_t(y) * std::size_t(W) + std::size_t(x)]; };
+    auto G = [&](float a, float b) { return double(diffusion_detail::link(a, b, rule)); };
     const long nblocks = (W + kColumnBlock - 1) / kColumnBlock;
 
     for (int step = 0; step < K; ++step) {
@@ -82,7 +84,7 @@ Status adi_kernel(std::span<float* const> planes, int width, int height, const f
                 const int y = int(yl);
                 bool any = false;
                 for (int i = 0; i + 1 < W; ++i) {
-                    g[std::size_t(i)] = dt * std::min(D(i, y), D(i + 1, y));
+                    g[std::size_t(i)] = dt * G(D(i, y), D(i + 1, y));
                     any = any || g[std::size_t(i)] > 0.0;
                 }
                 if (!any) continue;  // an all-sharp row is untouched
@@ -110,7 +112,7 @@ Status adi_kernel(std::span<float* const> planes, int width, int height, const f
                 bool any = false;
                 for (int j = 0; j + 1 < H; ++j)
                     for (int l = 0; l < lanes; ++l) {
-                        double gv = dt * std::min(D(xb + l, j), D(xb + l, j + 1));
+                        double gv = dt * G(D(xb + l, j), D(xb + l, j + 1));
                         g[std::size_t(j) * lanes + l] = gv;
                         any = any || gv > 0.0;
                     }
@@ -137,11 +139,16 @@ Status adi_kernel(std::span<float* const> planes, int width, int height, const f
 
 }  // namespace
 
+Status diffusion_detail::diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity,
+                                     const DiffusionOptions& settings, const Exec& exec, Conductance conductance) {
+    return run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
+        return adi_kernel(p, w, h, d, settings, exec, conductance);
+    });
+}
+
 Status diffuse_adi(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
                    const Exec& exec) {
-    return diffusion_detail::run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
-        return adi_kernel(p, w, h, d, settings, exec);
-    });
+    return diffusion_detail::diffuse_adi(planes, diffusivity, settings, exec, diffusion_detail::Conductance::Min);
 }
 
 }  // namespace gdof

@@ -1,6 +1,7 @@
 // The reference solver: repeated 3x3 averaging (an explicit Euler step of the
 // heat equation with the isotropic 9-point Laplacian), as in the paper. Every
-// pixel exchanges with its 8 neighbours through conductance min(D_p, D_q);
+// pixel exchanges with its 8 neighbours through conductance min(D_p, D_q)
+// (or their harmonic mean on a pyramid's coarse levels: conductance.h);
 // the time step keeps all weights non-negative, so it is stable by
 // construction, and fluxes are antisymmetric, so totals are conserved.
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 #include "common/flush_denormals.h"
 #include "common/simd_clones.h"
+#include "diffusion/conductance.h"
 #include "diffusion/solver_planes.h"
 #include "gdof/diffusion.h"
 #include "image/frame_buffer.h"
@@ -36,8 +38,8 @@ struct LinkRow {
 // four frame-sized arrays read on every pass.
 class LinkRing {
 public:
-    LinkRing(const float* diffusivity, int W, int H, float dt, int slots)
-        : d_(diffusivity), W_(W), H_(H), dt_(dt), slots_(slots), c_(4 * std::size_t(slots) * std::size_t(W)),
+    LinkRing(const float* diffusivity, int W, int H, float dt, int slots, diffusion_detail::Conductance rule)
+        : d_(diffusivity), W_(W), H_(H), dt_(dt), slots_(slots), rule_(rule), c_(4 * std::size_t(slots) * std::size_t(W)),
           row_of_(std::size_t(slots), -1) {}
     // Row y's links (computed on first use; rows are asked for in order).
     LinkRow at(int y) {
@@ -57,18 +59,29 @@ private:
         float *ce = base, *cs = base + w, *cse = base + 2 * w, *csw = base + 3 * w;
         const float* r0 = d_ + std::size_t(y) * w;
         const float* r1 = y + 1 < H_ ? r0 + w : nullptr;
-        for (int x = 0; x < W_; ++x) {
+        using diffusion_detail::Conductance;
+        using diffusion_detail::link;
+        // The rule outside the loop: one instance each.
+        if (rule_ == Conductance::Min)
+            fill_links(W_, r0, r1, [](float a, float b) { return link(a, b, Conductance::Min); }, ce, cs, cse, csw);
+        else
+            fill_links(W_, r0, r1, [](float a, float b) { return link(a, b, Conductance::Harmonic); }, ce, cs, cse, csw);
+    }
+    template <class Link>
+    void fill_links(int W, const float* r0, const float* r1, Link lk, float* ce, float* cs, float* cse, float* csw) const {
+        for (int x = 0; x < W; ++x) {
             const float d = r0[x];
-            ce[x] = x + 1 < W_ ? dt_ * kEdge * std::min(d, r0[x + 1]) : 0.0f;
-            cs[x] = r1 ? dt_ * kEdge * std::min(d, r1[x]) : 0.0f;
-            cse[x] = r1 && x + 1 < W_ ? dt_ * kDiag * std::min(d, r1[x + 1]) : 0.0f;
-            csw[x] = r1 && x > 0 ? dt_ * kDiag * std::min(d, r1[x - 1]) : 0.0f;
+            ce[x] = x + 1 < W ? dt_ * kEdge * lk(d, r0[x + 1]) : 0.0f;
+            cs[x] = r1 ? dt_ * kEdge * lk(d, r1[x]) : 0.0f;
+            cse[x] = r1 && x + 1 < W ? dt_ * kDiag * lk(d, r1[x + 1]) : 0.0f;
+            csw[x] = r1 && x > 0 ? dt_ * kDiag * lk(d, r1[x - 1]) : 0.0f;
         }
     }
     const float* d_;
     int W_, H_;
     float dt_;
     int slots_;
+    diffusion_detail::Conductance rule_;
     std::vector<float> c_;
     std::vector<int> row_of_;
 };
@@ -226,8 +239,9 @@ Columns active_columns(const float* d, int W, int ya, int yb) {
 // Advances rows [y0, y1) of `src` by k iterations into `dst` (nc planes).
 // Where no diffusivity is > 0 (insulating pixels: everything stays), values
 // are copied instead of summed: the same bits.
-void advance_band(const float* diffusivity, int W, int H, float dt, std::span<float* const> src,
-                  std::span<float* const> dst, int y0, int y1, int k, std::vector<float>& ring) {
+void advance_band(const float* diffusivity, int W, int H, float dt, diffusion_detail::Conductance rule,
+                  std::span<float* const> src, std::span<float* const> dst, int y0, int y1, int k,
+                  std::vector<float>& ring) {
     const int nc = int(src.size());
     const std::size_t rw = std::size_t(W);
     // Iterate s covers rows [lo(s), hi(s)); row t - s of iterate s is made at time t.
@@ -256,7 +270,7 @@ void advance_band(const float* diffusivity, int W, int H, float dt, std::span<fl
     };
     // At time t the rows t - 1 .. t - k are worked on, with the links of
     // rows t - k - 1 .. t - 1.
-    LinkRing links(diffusivity, W, H, dt, k + 2);
+    LinkRing links(diffusivity, W, H, dt, k + 2, rule);
     const LinkRow none{nullptr, nullptr, nullptr, nullptr};
     for (int t = lo(1) + 1; t < hi(1) + k; ++t)
         for (int s = 1; s <= k; ++s) {
@@ -284,7 +298,7 @@ void advance_band(const float* diffusivity, int W, int H, float dt, std::span<fl
 
 // The solver on row-major planes of width x height.
 Status explicit_kernel(std::span<float* const> planes, int width, int height, const float* diffusivity,
-                       const DiffusionOptions& settings, const Exec& exec) {
+                       const DiffusionOptions& settings, const Exec& exec, diffusion_detail::Conductance rule) {
     const int W = width, H = height;
     const std::size_t n = std::size_t(W) * std::size_t(H);
     std::vector<float> row_max(std::size_t(H), 0.0f);  // rows in parallel: a max, the same for any split
@@ -316,7 +330,7 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
             const ScopedFlushDenormals ftz;
             std::vector<float> ring;
             for (long b = b0; b < b1; ++b)
-                advance_band(diffusivity, W, H, dt, cur, nxt, int(b) * rows, std::min(H, int(b + 1) * rows), k,
+                advance_band(diffusivity, W, H, dt, rule, cur, nxt, int(b) * rows, std::min(H, int(b + 1) * rows), k,
                              ring);
         });
         if (!ok) {
@@ -336,11 +350,16 @@ Status explicit_kernel(std::span<float* const> planes, int width, int height, co
 
 }  // namespace
 
+Status diffusion_detail::diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity,
+                                          const DiffusionOptions& settings, const Exec& exec, Conductance conductance) {
+    return run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
+        return explicit_kernel(p, w, h, d, settings, exec, conductance);
+    });
+}
+
 Status diffuse_explicit(const ImageView& planes, const ConstImageView& diffusivity, const DiffusionOptions& settings,
                         const Exec& exec) {
-    return diffusion_detail::run_solver_kernel(planes, diffusivity, [&](std::span<float* const> p, int w, int h, const float* d) {
-        return explicit_kernel(p, w, h, d, settings, exec);
-    });
+    return diffusion_detail::diffuse_explicit(planes, diffusivity, settings, exec, diffusion_detail::Conductance::Min);
 }
 
 }  // namespace gdof

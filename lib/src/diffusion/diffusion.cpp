@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "diffusion/conductance.h"
 #include "image/frame_buffer.h"
 #include "image/row_major_planes.h"
 #include "image/view_shape.h"
@@ -44,6 +45,11 @@ int explicit_iterations(double max_radius_px, const DiffusionOptions& settings) 
 
 Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, const DiffusionOptions& settings,
                       const Exec& exec) {
+    return diffusion_detail::diffuse_planes(planes, radius, settings, exec, diffusion_detail::Conductance::Min);
+}
+
+Status diffusion_detail::diffuse_planes(const ImageView& planes, const ConstImageView& radius,
+                                        const DiffusionOptions& settings, const Exec& exec, Conductance conductance) {
     using namespace image_detail;
     const Roi& win = planes.window;
     if (win.x1 < win.x0 || win.y1 < win.y0) return Status::error("diffusion: inverted window " + to_string(win));
@@ -98,8 +104,8 @@ Status diffuse_planes(const ImageView& planes, const ConstImageView& radius, con
         return Status::ok();  // identity, bit for bit
     const DiffusionSolver solver = choose_solver(radius_from_diffusivity(dmax), settings);
     const ConstImageView diffusivity = ConstImageView::planar(d.data(), 1, win);
-    return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, diffusivity, settings, exec)
-                                               : diffuse_adi(planes, diffusivity, settings, exec);
+    return solver == DiffusionSolver::Explicit ? diffuse_explicit(planes, diffusivity, settings, exec, conductance)
+                                               : diffuse_adi(planes, diffusivity, settings, exec, conductance);
 }
 
 }  // namespace gdof
