@@ -182,5 +182,6 @@ for size in sorted({k[1] for k in keys}, key=lambda t: int(t.split("x")[0])):
                 cells.append("%.4f (%.3g s)" % (b["rel_l1"], b["seconds"]))
             else:
                 cells.append("-")
-        summary.append("| " + m + " | " + " | ".join(cells) + " |")
+        if any(c != "-" for c in cells):  # a size a method did not run at (a partial run merged) has no row
+            summary.append("| " + m + " | " + " | ".join(cells) + " |")
 open(out_dir + "/summary.md", "w").write("\n".join(summary) + "\n")
