@@ -63,7 +63,7 @@ struct Grid {
     Roi built;                  // the cells computed (the rest is not set)
     FrameBuffer<float> rgba;    // 4 planes
     FrameBuffer<float> radius;  // RMS full-resolution radius of the cell's kept pixels
-    FrameBuffer<float> area;    // pixels of the work region inside the cell
+    FrameBuffer<float> area;    // the weight it kept over a whole cell's (0: an insulating cell)
     FrameBuffer<float> sharpest;  // the smallest radius among the pixels it kept (+inf: none)
     explicit Grid(Roi w)
         : win(w), rgba(4 * w.npixels()), radius(w.npixels()), area(w.npixels()), sharpest(w.npixels()) {}
@@ -172,14 +172,14 @@ void row_min(const float* rs, int s, int k0, int k1, std::size_t ncell, float* o
     if (k0 == 0 && k1 == 3 * s) {
         const std::size_t nb = ncell + 2;
         float* bm = scratch;
-        std::fill_n(bm, nb, std::numeric_limits<float>::infinity());
+        std::fill_n(bm, nb, kNone);
         for (std::size_t f = 0; f < st; ++f)
             for (std::size_t b = 0; b < nb; ++b) bm[b] = std::min(bm[b], rs[b * st + f]);
         for (std::size_t X = 0; X < ncell; ++X) out[X] = std::min(std::min(bm[X], bm[X + 1]), bm[X + 2]);
         return;
     }
     for (std::size_t X = 0; X < ncell; ++X) {
-        float v = std::numeric_limits<float>::infinity();
+        float v = kNone;
         for (int t = k0; t < k1; ++t) v = std::min(v, rs[X * st + std::size_t(t)]);
         out[X] = v;
     }
@@ -321,8 +321,9 @@ Grid build_level(int j, const float* const planes[4], const RadiusMap& radius, c
             float* m = pad + 5 * padw;  // a pixel's weight: 1, or 0 when too sharp for the level
             float* rs = pad + 6 * padw;
             for (int x = 0; x < xb - xa; ++x) {
-                m[x] = r[x] >= keep ? 1.0f : 0.0f;
-                rs[x] = r[x] >= keep ? r[x] : kNone;
+                const bool kept = r[x] >= keep;
+                m[x] = kept ? 1.0f : 0.0f;
+                rs[x] = kept ? r[x] : kNone;
             }
             weighted_row(pl, r, xb - xa, pad, padw);
         };

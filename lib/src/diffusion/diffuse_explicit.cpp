@@ -63,12 +63,13 @@ private:
         using diffusion_detail::link;
         // The rule outside the loop: one instance each.
         if (rule_ == Conductance::Min)
-            fill_links(W_, r0, r1, [](float a, float b) { return link(a, b, Conductance::Min); }, ce, cs, cse, csw);
+            fill_links(r0, r1, [](float a, float b) { return link(a, b, Conductance::Min); }, ce, cs, cse, csw);
         else
-            fill_links(W_, r0, r1, [](float a, float b) { return link(a, b, Conductance::Harmonic); }, ce, cs, cse, csw);
+            fill_links(r0, r1, [](float a, float b) { return link(a, b, Conductance::Harmonic); }, ce, cs, cse, csw);
     }
     template <class Link>
-    void fill_links(int W, const float* r0, const float* r1, Link lk, float* ce, float* cs, float* cse, float* csw) const {
+    void fill_links(const float* r0, const float* r1, Link lk, float* ce, float* cs, float* cse, float* csw) const {
+        const int W = W_;
         for (int x = 0; x < W; ++x) {
             const float d = r0[x];
             ce[x] = x + 1 < W ? dt_ * kEdge * lk(d, r0[x + 1]) : 0.0f;
@@ -216,8 +217,9 @@ constexpr int kFused = 10;
 int band_rows(int height) { return std::clamp(height / 8, 64, 256); }
 
 // Columns [x0, x1) of a band's rows whose pixels can change: those with a
-// diffusivity > 0 in rows [ya, yb) (a link's conductance is the smaller
-// diffusivity of its ends, so an insulating pixel never changes).
+// diffusivity > 0 in rows [ya, yb) (a link with an insulating end conducts
+// nothing under either rule of conductance.h, so an insulating pixel never
+// changes).
 struct Columns {
     int x0 = 0, x1 = 0;
 };
