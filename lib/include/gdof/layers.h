@@ -58,12 +58,21 @@ public:
     // Layer i, in `storage` or held by the source itself: the pointer is
     // valid until the next call and while the source lives.
     virtual Result<const Layer*> make(int index, Layer& storage, const Exec& exec = {}) const = 0;
+    // The largest blur radius (px) of all the layers' pixels, when it was
+    // known before any layer is made (defocus() on a plate or a deep image
+    // computes every pixel's or sample's radius first); 0: not known. It
+    // sets how many pyramid levels each layer's diffusion has, so that a
+    // pixel's blur is the same whichever layer holds it.
+    virtual double largest_blur_radius() const { return 0.0; }
 };
 // A source over layers already made (front to back): borrowed (they must
 // outlive the source) or taken over. frame(): the union of their data
 // windows; display_window(): the union of their display windows.
 GDOF_API std::unique_ptr<LayerSource> source_of(const std::vector<Layer>& front_to_back);
 GDOF_API std::unique_ptr<LayerSource> source_of(std::vector<Layer>&& front_to_back);
+// `source` (taken over) with its layers' largest blur radius made known
+// (LayerSource::largest_blur_radius).
+GDOF_API std::unique_ptr<LayerSource> with_largest_blur_radius(std::unique_ptr<LayerSource> source, double radius);
 
 struct LayerSplit {
     enum class Mode {

@@ -122,9 +122,10 @@ RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis,
     return radius;
 }
 
-Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
-                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats) {
+Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, double frame_radius,
+                     const Roi& work, const Roi& extrapolation, const DiffusionOptions& settings,
+                     const BokehFilter* bokeh, const Roi& frame, const Exec& exec, DiffusedLayer& out,
+                     DefocusStats& stats) {
     const Image& img = layer.image;
     const Roi win = img.data_window();
     const int W = work.width();
@@ -166,7 +167,8 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
         return Status::ok();
     }
     PyramidSolve how;
-    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, extrapolation, settings, exec, how);
+    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, frame_radius, extrapolation,
+                                settings, exec, how);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     // Counted by the solver that ran: on the pyramid, the levels' one.

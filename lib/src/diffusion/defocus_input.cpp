@@ -13,6 +13,7 @@
 #include <array>
 #include <chrono>
 #include <limits>
+#include <memory>
 #include <cmath>
 #include <span>
 #include <optional>
@@ -60,6 +61,21 @@ double largest_finite(std::span<const float> r) {
     double m = 0.0;
     for (float v : r)
         if (std::isfinite(v)) m = std::max(m, double(v));
+    return m;
+}
+
+// The largest finite radius among the present pixels or samples (A > 0 or
+// a colour != 0, as the layers take them; every one when there is no A):
+// what the layers' own largest radii reach. Empty ones (a render's
+// transparent sky, the most blurred of all) are in no layer. Absent colour
+// planes (null) count as 0.
+double largest_present(std::span<const float> r, const float* const rgba[4]) {
+    double m = 0.0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        bool present = !rgba[3] || rgba[3][i] > 0.0f;
+        for (int c = 0; c < 3 && !present; ++c) present = rgba[c] && rgba[c][i] != 0.0f;
+        if (present && std::isfinite(r[i])) m = std::max(m, double(r[i]));
+    }
     return m;
 }
 
@@ -189,7 +205,12 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
     auto layers = deep_layer_source(d, settings.split, r, &ext, exec);  // blur_cuts Off ignores the radii
     if (!layers) return layers.status().prefix("defocus");
-    return layers;
+    const float* rgba[4];
+    for (int c = 0; c < 4; ++c) {
+        const int k = d.channel_index(std::string_view("RGBA" + c, 1));
+        rgba[c] = k >= 0 ? d.samples(k) : nullptr;
+    }
+    return with_largest_blur_radius(std::move(layers).value(), std::min(largest_present(r, rgba), ext.extend_px));
 }
 
 // One flat RGBA + depth part -> layers_from_depth_map, extended by the
@@ -260,7 +281,11 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     }
     auto layers = depth_map_layer_source(flat, so, exec);
     if (!layers) return layers.status().prefix("defocus");
-    return layers;
+    const float* planes[4] = {flat.plane(rgba.r), flat.plane(rgba.g), flat.plane(rgba.b),
+                              rgba.a >= 0 ? flat.plane(rgba.a) : nullptr};
+    // Mixed pixels are present: their foregrounds' radii count.
+    const double largest = std::max(largest_present(r, planes), largest_finite(rf));
+    return with_largest_blur_radius(std::move(layers).value(), std::min(largest, so.extend_px));
 }
 
 // The layers of an input by its kind; errors start with "defocus: ".
@@ -273,7 +298,9 @@ Result<std::unique_ptr<LayerSource>> input_layers(const ImageSet& input, const I
         case InputKind::Parts: {
             auto layers = layers_from_parts(input, settings.source, exec);
             if (!layers) return layers.status().prefix("defocus");
-            return source_of(std::move(layers).value());
+            auto largest = defocus_detail::largest_layer_radius(*layers, field, camera, settings, exec);
+            if (!largest) return largest.status();
+            return with_largest_blur_radius(source_of(std::move(layers).value()), *largest);
         }
         case InputKind::DepthMap: break;
     }

@@ -74,6 +74,13 @@ using RadiusMap = FrameBuffer<float>;
 DiffusionOptions layer_solver_settings(const DiffusionOptions& base, double layer_max_radius,
                                         const RadiusMap& radius_map, const Exec& exec);
 
+// The largest blur radius of layers in memory, as the pipeline's analysis
+// measures it (LayerSource::largest_blur_radius: they are then served with
+// it); 0 unless the filter is diffusion, whose pyramid alone uses it. Bad
+// settings or a layer's bad blur give the pipeline's own errors.
+Result<double> largest_layer_radius(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
+                                    const DefocusOptions& settings, const Exec& exec);
+
 // What diffuse_pyramid ran, for the --stats counts.
 struct PyramidSolve {
     bool on_pyramid = false;  // coarse levels were used
@@ -82,14 +89,17 @@ struct PyramidSolve {
 
 // Diffuses a layer's four row-major planes over their window with `radius`
 // (same window): on the pyramid when settings.pyramid and the layer's
-// largest radius call for it, else at full resolution; step counts follow
-// the whole layer's largest radius (layer_solver_settings), the level count
-// from it and the layer's whole region, so sub-regions run the same operator.
+// largest radius (above 6 px) call for it, else at full resolution. Step
+// counts follow the whole layer's largest radius (layer_solver_settings);
+// the level count follows the larger of it and `frame_radius` (the largest
+// radius of all the layers, 0 if not known), and the layer's whole region:
+// every layer on the pyramid then blends the same levels for a given
+// radius, and sub-regions run the same operator.
 // Every pyramid level's radii are at most 6 px, so under `auto` each level
 // runs explicit: the default path solves nothing implicitly.
 Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double layer_max_radius,
-                       const Roi& layer_region, const DiffusionOptions& settings, const Exec& exec,
-                       PyramidSolve& how);
+                       double frame_radius, const Roi& layer_region, const DiffusionOptions& settings,
+                       const Exec& exec, PyramidSolve& how);
 
 // Extrapolates the layer's radii over `extrapolation` (push-pull beyond the
 // known pixels; the whole render's work region, so a cropped render gets the
@@ -97,9 +107,11 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
 // copies the layer's RGBA into zero-padded planes over `work` and diffuses
 // them, or spreads them with `bokeh` when it is given (the cat's eye grows
 // towards the corners of `frame`). Times go to stats.t_extrapolate / t_diffuse.
-Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, const Roi& work,
-                     const Roi& extrapolation, const DiffusionOptions& settings, const BokehFilter* bokeh,
-                     const Roi& frame, const Exec& exec, DiffusedLayer& out, DefocusStats& stats);
+// `frame_radius`: as for diffuse_pyramid.
+Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysis, double frame_radius,
+                     const Roi& work, const Roi& extrapolation, const DiffusionOptions& settings,
+                     const BokehFilter* bokeh, const Roi& frame, const Exec& exec, DiffusedLayer& out,
+                     DefocusStats& stats);
 
 // The layer's radii over `work`: its known radii, extrapolated by push-pull
 // over `extrapolation` (∪ work) beyond its coverage, clamped to [0, largest].

@@ -75,9 +75,9 @@ LayerWindows layer_windows(const LayerAnalysis& a, const Roi& limit, const Roi& 
 // Step 3 for one layer: skipped (empty, or out of reach of the output),
 // passed through (sharp) or diffused, then composited onto `out`; `exec`
 // reports this layer's progress from 0 to 1.
-Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const LayerWindows& w, const Roi& output,
-                    const DefocusOptions& settings, const BokehFilter* bokeh, const Roi& frame, Image& out,
-                    DefocusStats& S, const Exec& exec) {
+Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, double frame_radius, const LayerWindows& w,
+                    const Roi& output, const DefocusOptions& settings, const BokehFilter* bokeh, const Roi& frame,
+                    Image& out, DefocusStats& S, const Exec& exec) {
     const Roi lwin = layer.image.data_window();
     if (a.empty) {
         ++S.layers_empty;
@@ -99,7 +99,8 @@ Status render_layer(const Layer& layer, int i, const LayerAnalysis& a, const Lay
         return Status::ok();
     }
     DiffusedLayer d;
-    Status st = diffuse_layer(layer, i, a, w.work, w.whole, settings.diffusion, bokeh, frame, sub_exec(exec, 0.0, 0.95), d, S);
+    Status st = diffuse_layer(layer, i, a, frame_radius, w.work, w.whole, settings.diffusion, bokeh, frame,
+                              sub_exec(exec, 0.0, 0.95), d, S);
     if (!st) return st;
     S.pixels_diffused += w.work.npixels();
     S.pixels_skipped += lwin.npixels() - intersect(lwin, w.work).npixels();
@@ -154,7 +155,7 @@ Result<Image> defocus_streamed(const LayerSource& source, const BlurField& field
         const LayerWindows w = layer_windows(*a, limit, limit, settings);
         output = unite(output, w.work);
         output = unite(output, intersect(layer.image.data_window(), limit));
-        if (Status st = render_layer(layer, i, *a, w, limit, settings, bokeh, frame, out, S,
+        if (Status st = render_layer(layer, i, *a, source.largest_blur_radius(), w, limit, settings, bokeh, frame, out, S,
                                      sub_exec(exec, p0 + 0.3 * (p1 - p0), p1));
             !st)
             return st;
@@ -213,7 +214,8 @@ Result<Image> defocus_region(const LayerSource& source, const BlurField& field, 
         if (exec.is_cancelled()) return Status::cancelled("defocus");
         const LayerWindows& lw = w[std::size_t(i)];
         const double share = intersect(lw.work, output).empty() ? 0.0 : double(lw.work.npixels());
-        if (Status st = render_layer(*layers[std::size_t(i)], i, an[std::size_t(i)], lw, output, settings, bokeh, frame,
+        if (Status st = render_layer(*layers[std::size_t(i)], i, an[std::size_t(i)], source.largest_blur_radius(), lw,
+                                     output, settings, bokeh, frame,
                                      out, S, sub_exec(exec, at(done), at(done + share)));
             !st)
             return st;
@@ -254,7 +256,23 @@ Result<Image> defocus_layers(const LayerSource& source, const BlurField& field, 
 
 Result<Image> defocus_layers(const std::vector<Layer>& layers, const BlurField& field, const Camera& camera,
                              const DefocusOptions& settings, DefocusStats* stats, const Exec& exec) {
-    return defocus_layers(*source_of(layers), field, camera, settings, stats, exec);
+    auto largest = defocus_detail::largest_layer_radius(layers, field, camera, settings, exec);
+    if (!largest) return largest.status();
+    return defocus_layers(*with_largest_blur_radius(source_of(layers), *largest), field, camera, settings, stats, exec);
+}
+
+Result<double> defocus_detail::largest_layer_radius(const std::vector<Layer>& layers, const BlurField& field,
+                                                    const Camera& camera, const DefocusOptions& settings,
+                                                    const Exec& exec) {
+    if (Status st = validate(settings); !st) return st;
+    double largest = 0.0;
+    if (settings.filter != DefocusFilter::Diffusion) return largest;
+    for (int i = 0; i < int(layers.size()); ++i) {
+        auto a = analyse_layer(layers[std::size_t(i)], i, field, camera, settings.diffusion, exec);
+        if (!a) return a.status();
+        largest = std::max(largest, a->max_radius);
+    }
+    return largest;
 }
 
 const char* to_string(DefocusFilter f) {

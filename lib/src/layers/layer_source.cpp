@@ -24,6 +24,23 @@ private:
     Roi frame_, display_;
 };
 
+// Another source, served as it is, with its largest blur radius known.
+class KnownRadiusSource final : public LayerSource {
+public:
+    KnownRadiusSource(std::unique_ptr<LayerSource> inner, double radius) : inner_(std::move(inner)), radius_(radius) {}
+    int size() const override { return inner_->size(); }
+    Roi frame() const override { return inner_->frame(); }
+    Roi display_window() const override { return inner_->display_window(); }
+    Result<const Layer*> make(int i, Layer& storage, const Exec& exec) const override {
+        return inner_->make(i, storage, exec);
+    }
+    double largest_blur_radius() const override { return radius_; }
+
+private:
+    std::unique_ptr<LayerSource> inner_;
+    double radius_;
+};
+
 // The union of the layers' data windows and the display windows.
 void windows_of(const std::vector<Layer>& layers, Roi& frame, Roi& display) {
     for (const Layer& L : layers) {
@@ -71,6 +88,10 @@ std::unique_ptr<LayerSource> source_of(std::vector<Layer>&& front_to_back) {
     Roi frame, display;
     windows_of(front_to_back, frame, display);
     return std::make_unique<ListedLayers>(nullptr, std::move(front_to_back), frame, display);
+}
+
+std::unique_ptr<LayerSource> with_largest_blur_radius(std::unique_ptr<LayerSource> source, double radius) {
+    return std::make_unique<KnownRadiusSource>(std::move(source), radius);
 }
 
 }  // namespace gdof
