@@ -206,8 +206,9 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     auto layers = deep_layer_source(d, settings.split, r, &ext, exec);  // blur_cuts Off ignores the radii
     if (!layers) return layers.status().prefix("defocus");
     const float* rgba[4];
+    const char* const names[4] = {"R", "G", "B", "A"};
     for (int c = 0; c < 4; ++c) {
-        const int k = d.channel_index(std::string_view("RGBA" + c, 1));
+        const int k = d.channel_index(names[c]);
         rgba[c] = k >= 0 ? d.samples(k) : nullptr;
     }
     return with_largest_blur_radius(std::move(layers).value(), std::min(largest_present(r, rgba), ext.extend_px));

@@ -613,11 +613,20 @@ void return_row(const float* lrow, int W, int levels, const LevelReturn* ret, co
     }
 }
 
-// Number of coarse levels for a layer's largest radius and its whole region
-// (0: the layer is solved at full resolution only).
-int pyramid_levels(double layer_max_radius, const Roi& layer_region) {
+// Number of coarse levels of a layer (0: solved at full resolution only).
+// A layer that needs coarse levels at all (its largest blur above 2c) takes
+// their count from the frame's largest radius: a pixel of radius R blends
+// the two levels around log2(R / c), or takes the top level alone beyond
+// the count. With a count from each layer's own largest radius, the same R
+// blended two levels in one layer and took one alone in another whose
+// largest blur was a little smaller (the Cornell box's lamp glowed
+// differently depending on the layer it fell in). Layers within 2c stay at
+// full resolution: putting them on the pyramid too cost 0.1 s on the 4K
+// frame and measured no better.
+int pyramid_levels(double layer_max_radius, double frame_radius, const Roi& layer_region) {
     if (!(layer_max_radius > 2.0 * kLevelRadius)) return 0;
-    int levels = std::min(kMaxLevels, int(std::ceil(std::log2(layer_max_radius / (2.0 * kLevelRadius)))));
+    const double count_radius = std::max(layer_max_radius, frame_radius);
+    int levels = std::min(kMaxLevels, int(std::ceil(std::log2(count_radius / (2.0 * kLevelRadius)))));
     // A level keeps at least kMinCells cells across the layer's region: a
     // blur that wide is a near-constant over so small a region anyway.
     const int side = std::min(layer_region.width(), layer_region.height());
@@ -631,17 +640,7 @@ Status diffuse_pyramid(const ImageView& planes, const RadiusMap& radius, double 
                        double frame_radius, const Roi& layer_region, const DiffusionOptions& settings,
                        const Exec& exec, PyramidSolve& how) {
     const Roi work = planes.window;
-    // A layer that needs coarse levels at all (blur above 2c) takes their
-    // count from the frame's largest radius: a pixel of radius R blends the
-    // two levels around log2(R / c), or takes the top level alone beyond
-    // the count. With a count from each layer's own largest radius, the same
-    // R blended two levels in one layer and took one alone in another whose
-    // largest blur was a little smaller (the Cornell box's lamp glowed
-    // differently depending on the layer it fell in). Layers within 2c stay
-    // at full resolution: putting them on the pyramid too cost 0.1 s on the
-    // 4K frame and measured no better.
-    const bool coarse = settings.pyramid && layer_max_radius > 2.0 * kLevelRadius;
-    const int levels = coarse ? pyramid_levels(std::max(layer_max_radius, frame_radius), layer_region) : 0;
+    const int levels = settings.pyramid ? pyramid_levels(layer_max_radius, frame_radius, layer_region) : 0;
     how.on_pyramid = levels > 0;
     if (levels == 0) {
         const DiffusionOptions s = layer_solver_settings(settings, layer_max_radius, radius, exec);
