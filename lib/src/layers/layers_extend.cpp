@@ -49,29 +49,52 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
 }
 
 // The rim of a layer's own coverage: own pixels within kRim px (Chebyshev)
-// of a pixel it does not cover. Only the rim feeds the extension's fill: the
-// fill continues what the layer shows at its edge, and pixels deeper inside
-// (a lamp 6 px below the ceiling's cut) would otherwise reach the hidden
-// part through the fill's coarse levels (a ghost of the lamp over the whole
-// ceiling behind a nearer band on the benchmark's Cornell box).
+// of a pixel the extension fills (`ext`). Only the rim feeds the extension's
+// fill: the fill continues what the layer shows at the edge where it is
+// hidden. Pixels deeper inside (a lamp 6 px below the ceiling's cut) would
+// otherwise reach the hidden part through the fill's coarse levels (a ghost
+// of the lamp over the whole ceiling behind a nearer band on the benchmark's
+// Cornell box), and so would an edge that meets a farther layer or
+// emptiness, which nothing is filled beside (the lamp's lower edge, where
+// the ceiling's slice ends at the lamp's recess: a line of lamp light along
+// the nearer band's blurred edge in one frame of a focus pull). A layer with
+// no own pixel near its hidden ones (none, or only beyond kRim) takes the
+// rim of all its coverage.
 constexpr int kRim = 4;
 
-FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, int w, int h, const Exec& exec) {
-    FrameBuffer<unsigned char> rim(own.size());  // every element written
+FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, const FrameBuffer<unsigned char>& ext,
+                                        int w, int h, const Exec& exec) {
     const std::size_t W = std::size_t(w);
     const unsigned char* o = own.data();
-    unsigned char* r = rim.data();
-    // Pointers and bounds by value: byte stores may alias anything reached
-    // through a reference, which stops vectorisation.
-    parallel_for(exec, h, [o, r, W](long r0, long r1) {
-        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = o[i] ? 0 : 1;
-    }, 64);
-    rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near an uncovered pixel
-    r = rim.data();
-    parallel_for(exec, h, [o, r, W](long r0, long r1) {
-        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = o[i] && r[i] ? 1 : 0;
-    }, 64);
-    return rim;
+    auto rim_of = [&](bool facing_ext) {
+        FrameBuffer<unsigned char> rim(own.size());  // every element written
+        unsigned char* r = rim.data();
+        const unsigned char* e = ext.data();
+        // Pointers and bounds by value: byte stores may alias anything reached
+        // through a reference, which stops vectorisation.
+        parallel_for(exec, h, [o, e, r, W, facing_ext](long r0, long r1) {
+            for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = facing_ext ? e[i] : !o[i];
+        }, 64);
+        rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near a pixel it faces
+        r = rim.data();
+        std::vector<unsigned char> any(static_cast<std::size_t>(h), 0);
+        parallel_for(exec, h, [o, r, W, &any](long r0, long r1) {
+            for (long y = r0; y < r1; ++y) {
+                unsigned char a = 0;
+                for (std::size_t i = std::size_t(y) * W; i < std::size_t(y + 1) * W; ++i) {
+                    const unsigned char v = o[i] && r[i] ? 1 : 0;
+                    r[i] = v;
+                    a |= v;
+                }
+                any[std::size_t(y)] = a;
+            }
+        }, 64);
+        const bool found = std::any_of(any.begin(), any.end(), [](unsigned char v) { return v != 0; });
+        return std::make_pair(std::move(rim), found);
+    };
+    auto [rim, found] = rim_of(true);
+    if (found) return std::move(rim);
+    return std::move(rim_of(false).first);
 }
 
 }  // namespace
@@ -197,7 +220,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
     FrameBuffer<float> wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
-    const FrameBuffer<unsigned char> rim = coverage_rim(own, ww, wh, exec);
+    const FrameBuffer<unsigned char> rim = coverage_rim(own, ext, ww, wh, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
         // Locals: the stores below may alias anything reached through a reference.
         const unsigned char* rim_p = rim.data();

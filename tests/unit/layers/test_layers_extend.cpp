@@ -151,3 +151,36 @@ TEST(layers_extend, ABrightSpotInsideALayerDoesNotLeakIntoItsExtension) {
             EXPECT_LT(ceiling.at(0, x, y), 0.01f) << "x " << x << ", y " << y;
         }
 }
+
+// Only the edge that faces the hidden pixels feeds their fill: a dark
+// ceiling (0.001, depth 10) under a nearer band (depth 2, y < 32), with a
+// wide lamp (30) 8 px below the band whose lower edge meets a farther wall
+// (depth 20), so the lamp lies at the layer's rim there. That rim borders
+// nothing the extension fills; before, it fed the fill all the same, and the
+// ceiling's continuation behind the band took the lamp's light (up to 17
+// here; on the benchmark's Cornell box 0.5 to 7 behind the near ceiling
+// strip, a ceiling of 0.05: a bright line along the strip's blurred edge in
+// one frame of a focus pull).
+TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
+    const Roi win{0, 0, 128, 64};
+    auto lamp = [](int x, int y) { return y >= 40 && y < 50 && x >= 34 && x < 94; };
+    auto wall = [](int x, int y) { return y >= 50 && x >= 24 && x < 104; };
+    const DeepImage d = opaque_one_sample(
+        win,
+        [&](int x, int y) { return y < 32 ? 0.5f : lamp(x, y) ? 30.0f : wall(x, y) ? 0.3f : 0.001f; },
+        [&](int x, int y) { return y < 32 ? 2.0f : wall(x, y) ? 20.0f : 10.0f; });
+    auto layers = layers_from_deep(d, LayerSplit{});
+    ASSERT_TRUE(layers) << layers.message();
+    ASSERT_EQ(layers->size(), 3u);
+    ExtendOptions ext;
+    ext.extend_px = 32.0;
+    ext.occluder_alpha = 0.999f;
+    ASSERT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
+    const Image& ceiling = (*layers)[1].image;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 10; x < 118; x += 4) {
+            ASSERT_TRUE(ceiling.data_window().contains(x, y));
+            EXPECT_EQ(ceiling.at(3, x, y), 1.0f);
+            EXPECT_LT(ceiling.at(0, x, y), 0.01f) << "x " << x << ", y " << y;
+        }
+}
