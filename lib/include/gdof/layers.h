@@ -266,6 +266,12 @@ struct ExtendOptions {
     // coverage (what the owners were chosen by), so that a layer's reach
     // needs no distance transform of its own. Not owned.
     std::span<const float> owner_distance;
+    // The fill is fed only by the layer's edge that faces the pixels it
+    // fills (plates): an edge that meets a farther layer or emptiness feeds
+    // nothing. Off: every edge of the layer's coverage feeds it (deep
+    // inputs, where that measured better on some frames of a focus pull and
+    // worse on others).
+    bool fill_from_hidden_edge = false;
 };
 GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                                      const Exec& exec = {});

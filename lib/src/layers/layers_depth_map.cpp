@@ -360,6 +360,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     L->extend_.occluder_alpha = 0.0f;
     L->extend_.owner = L->owner_;
     L->extend_.owner_distance = L->owner_distance_;
+    L->extend_.fill_from_hidden_edge = true;
     return std::unique_ptr<LayerSource>(std::move(L));
 }
 

@@ -49,9 +49,10 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
 }
 
 // The rim of a layer's own coverage: own pixels within kRim px (Chebyshev)
-// of a pixel the extension fills (`ext`). Only the rim feeds the extension's
-// fill: the fill continues what the layer shows at the edge where it is
-// hidden. Pixels deeper inside (a lamp 6 px below the ceiling's cut) would
+// of a pixel the extension fills (`ext`; ExtendOptions::fill_from_hidden_edge,
+// plates), else of any pixel the layer does not cover. Only the rim feeds
+// the extension's fill: the fill continues what the layer shows at the edge
+// where it is hidden. Pixels deeper inside (a lamp 6 px below the ceiling's cut) would
 // otherwise reach the hidden part through the fill's coarse levels (a ghost
 // of the lamp over the whole ceiling behind a nearer band on the benchmark's
 // Cornell box), and so would an edge that meets a farther layer or
@@ -63,7 +64,7 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
 constexpr int kRim = 4;
 
 FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, const FrameBuffer<unsigned char>& ext,
-                                        int w, int h, const Exec& exec) {
+                                        bool facing_fill, int w, int h, const Exec& exec) {
     const std::size_t W = std::size_t(w);
     const unsigned char* o = own.data();
     auto rim_of = [&](bool facing_ext) {
@@ -92,8 +93,8 @@ FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, c
         const bool found = std::any_of(any.begin(), any.end(), [](unsigned char v) { return v != 0; });
         return std::make_pair(std::move(rim), found);
     };
-    auto [rim, found] = rim_of(true);
-    if (found) return std::move(rim);
+    auto [rim, found] = rim_of(facing_fill);
+    if (found || !facing_fill) return std::move(rim);
     return std::move(rim_of(false).first);
 }
 
@@ -220,7 +221,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     for (int c = 0; c < nfill; ++c) fill[std::size_t(c)] = fill_planes.data() + std::size_t(c) * wn;
     FrameBuffer<float> wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
-    const FrameBuffer<unsigned char> rim = coverage_rim(own, ext, ww, wh, exec);
+    const FrameBuffer<unsigned char> rim = coverage_rim(own, ext, opt.fill_from_hidden_edge, ww, wh, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
         // Locals: the stores below may alias anything reached through a reference.
         const unsigned char* rim_p = rim.data();

@@ -3,6 +3,7 @@
 // missing until it is extended).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -152,7 +153,8 @@ TEST(layers_extend, ABrightSpotInsideALayerDoesNotLeakIntoItsExtension) {
         }
 }
 
-// Only the edge that faces the hidden pixels feeds their fill: a dark
+// With fill_from_hidden_edge (plates) only the edge that faces the hidden
+// pixels feeds their fill: a dark
 // ceiling (0.001, depth 10) under a nearer band (depth 2, y < 32), with a
 // wide lamp (30) 8 px below the band whose lower edge meets a farther wall
 // (depth 20), so the lamp lies at the layer's rim there. That rim borders
@@ -175,6 +177,8 @@ TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
     ExtendOptions ext;
     ext.extend_px = 32.0;
     ext.occluder_alpha = 0.999f;
+    ext.fill_from_hidden_edge = true;  // as plates extend
+    std::vector<Layer> every_edge = *layers;
     ASSERT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
     const Image& ceiling = (*layers)[1].image;
     for (int y = 0; y < 32; ++y)
@@ -183,4 +187,10 @@ TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
             EXPECT_EQ(ceiling.at(3, x, y), 1.0f);
             EXPECT_LT(ceiling.at(0, x, y), 0.01f) << "x " << x << ", y " << y;
         }
+    // Without the option (deep inputs) every edge feeds the fill: the lamp's light reaches behind the band.
+    ext.fill_from_hidden_edge = false;
+    ASSERT_TRUE(extend_layers_behind(every_edge, d.data_window(), ext));
+    float brightest = 0.0f;
+    for (int x = 10; x < 118; x += 4) brightest = std::max(brightest, every_edge[1].image.at(0, x, 20));
+    EXPECT_GT(brightest, 0.1f);
 }
