@@ -35,6 +35,7 @@
 #include "gdof/raytrace.h"
 #include "gdof/scene.h"
 #include "methods/bench_metrics.h"
+#include "methods/open_aperture.h"
 
 using namespace gdof;
 namespace fs = std::filesystem;
@@ -102,15 +103,9 @@ int main(int argc, char** argv) {
     // The method benchmark's thin-lens aperture: 10 px of blur, with the
     // camera's focus, at the nearest depths (the plate's 2nd percentile).
     const Image& p = plate.flat(0);
-    const int zc = p.channel_index("Z");
-    if (zc < 0) die(dir + "/pinhole_q.exr has no Z");
-    std::vector<float> zs;
-    for (std::size_t i = 0; i < p.npixels(); ++i)
-        if (std::isfinite(p.plane(zc)[i])) zs.push_back(p.plane(zc)[i]);
-    if (zs.empty()) die(dir + "/pinhole_q.exr: no finite depth");
-    std::sort(zs.begin(), zs.end());
     ThinLens lens = take(cam.thin_lens(), "scene camera");
-    lens.f_number = lens.f_number * lens.coc_radius_px(zs[zs.size() / 50]) / 10.0;
+    lens.f_number = bench::open_f_number(cam, kW / 640.0, bench::depth_range(p, dir + "/pinhole_q.exr").near);
+    const int zc = p.channel_index("Z");
     std::fprintf(stderr, "focus pull: f/%.6g, focus 3.0 .. 4.5 m\n", lens.f_number);
 
     struct Input {

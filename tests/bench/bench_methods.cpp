@@ -51,6 +51,7 @@
 #include "methods/bench_metrics.h"
 #include "methods/degraded_depth.h"
 #include "methods/gaussian_layers.h"
+#include "methods/open_aperture.h"
 
 using namespace gdof;
 namespace fs = std::filesystem;
@@ -80,6 +81,7 @@ std::vector<std::string> split(const std::string& s) {
 }
 
 using bench::die;
+using bench::open_f_number;
 using bench::take;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -105,14 +107,6 @@ Scene load_scene_at(const std::string& path, int w, int h) {
     json j = json::parse(in);
     j["camera"]["resolution"] = {w, h};
     return take(parse_scene(j.dump(), fs::path(path).parent_path().string()), path);
-}
-
-// The f-number that blurs the nearest geometry (znear) by 10 px per 640 px of
-// width with the scene camera's focus: the benchmark's thin-lens field, and
-// the widest aperture of its stack (so compositing can reach that blur).
-double open_f_number(const Camera& cam, double scale, double znear) {
-    const ThinLens tl = take(cam.thin_lens(), "scene camera");
-    return tl.f_number * tl.coc_radius_px(znear) / (10 * scale);
 }
 
 // Blur fields per scene: the camera's thin lens (physical), two focal planes,
@@ -244,11 +238,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
     // depth range) x 4 f-numbers (the thin-lens field's open aperture N and
     // 2N, 4N, 8N), rendered once; smaller stacks are subsets. 1920x1080: the
     // first two f-numbers only (24 references).
-    std::vector<float> zs;
-    for (std::size_t i = 0; i < pinhole.npixels(); ++i)
-        if (std::isfinite(pinhole.plane(zc)[i])) zs.push_back(pinhole.plane(zc)[i]);
-    std::sort(zs.begin(), zs.end());
-    const double znear = zs[zs.size() / 50], zfar = zs[zs.size() * 49 / 50];
+    const auto [znear, zfar] = bench::depth_range(pinhole, "pinhole render");
     const double n0 = open_f_number(cam, scale, znear);
     const int nf = big ? 2 : 4;
     RenderStackOptions spec;

@@ -52,50 +52,42 @@ void coverage(const Image& img, const Roi& work, FrameBuffer<float>& alpha, Fram
 // of a pixel the extension fills (`ext`; ExtendOptions::fill_from_hidden_edge,
 // plates), else of any pixel the layer does not cover. Only the rim feeds
 // the extension's fill: the fill continues what the layer shows at the edge
-// where it is hidden. Pixels deeper inside (a lamp 6 px below the ceiling's cut) would
-// otherwise reach the hidden part through the fill's coarse levels (a ghost
-// of the lamp over the whole ceiling behind a nearer band on the benchmark's
-// Cornell box), and so would an edge that meets a farther layer or
-// emptiness, which nothing is filled beside (the lamp's lower edge, where
-// the ceiling's slice ends at the lamp's recess: a line of lamp light along
-// the nearer band's blurred edge in one frame of a focus pull). A layer with
-// no own pixel near its hidden ones (none, or only beyond kRim) takes the
-// rim of all its coverage.
+// where it is hidden. Pixels deeper inside (a lamp 6 px below the
+// ceiling's cut) would otherwise reach the hidden part through the fill's
+// coarse levels (a ghost of the lamp over the whole ceiling behind a nearer
+// band on the benchmark's Cornell box), and so would an edge that meets a
+// farther layer or emptiness, which nothing is filled beside (the lamp's
+// lower edge, where the ceiling's slice ends at the lamp's recess: a line of
+// lamp light along the nearer band's blurred edge in one frame of a focus
+// pull). A layer with no own pixel near its hidden ones (none, or only
+// beyond kRim) takes the rim of all its coverage.
 constexpr int kRim = 4;
+
+// Own pixels within kRim px of a `seed` pixel.
+FrameBuffer<unsigned char> own_near(const FrameBuffer<unsigned char>& own, const FrameBuffer<unsigned char>& seed,
+                                    int w, int h, const Exec& exec) {
+    FrameBuffer<unsigned char> rim = image_detail::dilate_square(seed, w, h, kRim, exec);
+    // Pointers and bounds by value: byte stores may alias anything reached
+    // through a reference, which stops vectorisation.
+    const std::size_t W = std::size_t(w);
+    parallel_for(exec, h, [o = own.data(), r = rim.data(), W](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = o[i] && r[i] ? 1 : 0;
+    }, 64);
+    return rim;
+}
 
 FrameBuffer<unsigned char> coverage_rim(const FrameBuffer<unsigned char>& own, const FrameBuffer<unsigned char>& ext,
                                         bool facing_fill, int w, int h, const Exec& exec) {
+    if (facing_fill) {
+        FrameBuffer<unsigned char> rim = own_near(own, ext, w, h, exec);
+        if (std::any_of(rim.begin(), rim.end(), [](unsigned char v) { return v != 0; })) return rim;
+    }
+    FrameBuffer<unsigned char> uncovered(own.size());  // every element written
     const std::size_t W = std::size_t(w);
-    const unsigned char* o = own.data();
-    auto rim_of = [&](bool facing_ext) {
-        FrameBuffer<unsigned char> rim(own.size());  // every element written
-        unsigned char* r = rim.data();
-        const unsigned char* e = ext.data();
-        // Pointers and bounds by value: byte stores may alias anything reached
-        // through a reference, which stops vectorisation.
-        parallel_for(exec, h, [o, e, r, W, facing_ext](long r0, long r1) {
-            for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) r[i] = facing_ext ? e[i] : !o[i];
-        }, 64);
-        rim = image_detail::dilate_square(rim, w, h, kRim, exec);  // near a pixel it faces
-        r = rim.data();
-        std::vector<unsigned char> any(static_cast<std::size_t>(h), 0);
-        parallel_for(exec, h, [o, r, W, &any](long r0, long r1) {
-            for (long y = r0; y < r1; ++y) {
-                unsigned char a = 0;
-                for (std::size_t i = std::size_t(y) * W; i < std::size_t(y + 1) * W; ++i) {
-                    const unsigned char v = o[i] && r[i] ? 1 : 0;
-                    r[i] = v;
-                    a |= v;
-                }
-                any[std::size_t(y)] = a;
-            }
-        }, 64);
-        const bool found = std::any_of(any.begin(), any.end(), [](unsigned char v) { return v != 0; });
-        return std::make_pair(std::move(rim), found);
-    };
-    auto [rim, found] = rim_of(facing_fill);
-    if (found || !facing_fill) return std::move(rim);
-    return std::move(rim_of(false).first);
+    parallel_for(exec, h, [o = own.data(), u = uncovered.data(), W](long r0, long r1) {
+        for (std::size_t i = std::size_t(r0) * W; i < std::size_t(r1) * W; ++i) u[i] = !o[i];
+    }, 64);
+    return own_near(own, uncovered, w, h, exec);
 }
 
 }  // namespace
