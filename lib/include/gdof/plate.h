@@ -34,8 +34,10 @@
 //      holds both sides of a step is decided by its colour between the
 //      nearest measured pixels of each side: all one side's depth, or split
 //      into a foreground share (its colour's) at the foreground's depth and
-//      the background part (MixedPixel). Where the two sides' colours
-//      are too alike, or the pixel is no mix of them, the fill stays.
+//      the background part (MixedPixel; a slice that holds both parts
+//      takes it whole, at the foreground's depth). Where the two sides'
+//      colours are too alike, or the pixel is no mix of them, the fill
+//      stays.
 // The focus tools read the prepared depth: the median depth in a small
 // window around a pixel (robust to noise and holes) and a probe of depth,
 // world position and blur at a pixel.

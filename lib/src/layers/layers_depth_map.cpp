@@ -124,9 +124,14 @@ bool PlateLayers::part_of(std::size_t i, int s, Part& p, bool continued) const {
     const bool whole = slice_[i] == s || continued;
     if (!whole && fg_slice_[i] != s) return false;
     // A split pixel: its foreground part in the foreground's slice, its
-    // background part where the pixel is whole. Split in two slices only:
-    // within one it is simply whole.
-    const MixedPixel* m = fg_slice_[i] >= 0 ? ps_.mixed_at(i) : nullptr;
+    // background part where the pixel is whole. When both parts fall in one
+    // slice it is whole there, at the foreground's depth: the foreground's
+    // blur must carry it, as every mixed pixel's (plate.h, step 4). At the
+    // background's depth a pole's edge pixel took the blur of the floor
+    // behind it (generated scene, degraded depth: edge error 0.0701 ->
+    // 0.0660 with the thin lens).
+    const MixedPixel* m = ps_.mixed_at(i);
+    const bool split = m && fg_slice_[i] >= 0;
     const float alpha = a_ ? a_[i] : 1.0f;
     if (!whole) {
         for (int c = 0; c < 3; ++c) p.rgb[c] = m->fg_share * m->fg_rgb[c];
@@ -134,9 +139,9 @@ bool PlateLayers::part_of(std::size_t i, int s, Part& p, bool continued) const {
         p.z = m->fg_depth;
     } else {
         const float rgb[3] = {r_[i], g_[i], b_[i]};
-        for (int c = 0; c < 3; ++c) p.rgb[c] = m ? m->bg_rgb[c] : rgb[c];
+        for (int c = 0; c < 3; ++c) p.rgb[c] = split ? m->bg_rgb[c] : rgb[c];
         p.alpha = alpha;
-        p.z = ps_.depth[i];
+        p.z = m && !split ? m->fg_depth : ps_.depth[i];
     }
     return true;
 }

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "gdof/layers.h"
+#include "gdof/plate.h"
 
 using namespace gdof;
 
@@ -376,4 +377,58 @@ TEST(layers_from_depth_map, ContinuedSurfacesCarryTheNearerFloorNotThePole) {
         for (int c = 0; c < 4; ++c)
             for (std::size_t k = 0; k < a.npixels(); ++k) ASSERT_EQ(a.plane(c)[k], b.plane(c)[k]);
     }
+}
+
+// A split silhouette pixel (a hole at a silhouette that the cleanup split,
+// plate.h step 5) whose two parts fall into one slice is whole there, with
+// the plate's colour, at the foreground's depth: the foreground's blur must
+// carry it, as for every other mixed pixel (step 4). At the background's
+// depth a pixel that is mostly disc took the wall's blur. With two slices
+// its parts are still split between them.
+TEST(layers_depth_map, ASplitPixelInOneSliceTakesTheForegroundsDepth) {
+    const Image img = scene();
+    const int W = kWin.width(), H = kWin.height();
+    PlateDepth pd;
+    pd.window = kWin;
+    pd.depth.resize(std::size_t(W) * std::size_t(H));
+    const int zc = img.channel_index("Z");
+    for (std::size_t i = 0; i < pd.depth.size(); ++i) pd.depth[i] = img.plane(zc)[i];
+    // The pixel just left of the disc: 80% disc, 20% wall.
+    const int mx = 15, my = 26;
+    ASSERT_FALSE(in_disc(mx, my));
+    ASSERT_TRUE(in_disc(mx + 1, my));
+    MixedPixel m;
+    m.index = std::size_t(my - kWin.y0) * std::size_t(W) + std::size_t(mx - kWin.x0);
+    m.fg_depth = 2.0f;
+    m.fg_share = 0.8f;
+    for (int c = 0; c < 3; ++c) {
+        m.fg_rgb[c] = c == 0 ? 0.9f : 0.1f;
+        m.bg_rgb[c] = wall(c, mx, my);
+    }
+    pd.mixed.push_back(m);
+    pd.depth[m.index] = 10.0f;  // a split pixel's own depth is its background's
+
+    SliceOptions one;
+    one.split.mode = LayerSplit::Mode::Count;
+    one.split.count = 1;
+    one.depth = &pd;
+    auto whole = layers_from_depth_map(img, one);
+    ASSERT_TRUE(whole) << whole.message();
+    ASSERT_EQ(whole->size(), 1u);
+    const Image& l = (*whole)[0].image;
+    EXPECT_EQ(l.at(4, mx, my), 2.0f) << "the wall's depth: the pixel would take the wall's blur";
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(l.at(c, mx, my), img.at(c, mx, my)) << c;
+    EXPECT_EQ(l.at(3, mx, my), 1.0f);
+
+    SliceOptions two = one;
+    two.split.count = 2;
+    auto split = layers_from_depth_map(img, two);
+    ASSERT_TRUE(split) << split.message();
+    ASSERT_EQ(split->size(), 2u);
+    const Image& fg = (*split)[0].image;
+    const Image& bg = (*split)[1].image;
+    EXPECT_NEAR(fg.at(3, mx, my), 0.8f, 1e-6f);
+    EXPECT_EQ(fg.at(4, mx, my), 2.0f);
+    EXPECT_EQ(bg.at(4, mx, my), 10.0f);
+    EXPECT_NEAR(bg.at(0, mx, my), wall(0, mx, my), 1e-6f);
 }
