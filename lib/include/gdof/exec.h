@@ -12,7 +12,10 @@ namespace gdof {
 
 struct Exec {
     int nthreads = 0;                             // 0: all cores
-    std::function<bool()> cancelled;              // polled per row/tile; true stops the work
+    // Polled per row/tile; true stops the work. Once true it must stay true:
+    // a loop stops at the first poll that sees it, and the steps after it
+    // check again before they use what the loop left unfinished.
+    std::function<bool()> cancelled;
     std::function<void(double fraction)> progress;  // 0..1, called from any thread, throttled
 
     bool is_cancelled() const { return cancelled && cancelled(); }

@@ -158,6 +158,10 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
             }
     }, 16);
 
+    // Cancelled: the loops above stopped and left the radii (their rounding
+    // guard) and the planes unfinished; a filter would judge them as input.
+    if (exec.is_cancelled()) return Status::cancelled(layer_label(layer, index));
+
     t0 = std::chrono::steady_clock::now();
     if (bokeh) {
         ++stats.layers_bokeh;

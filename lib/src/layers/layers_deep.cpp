@@ -194,7 +194,7 @@ LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLa
     constexpr int kBand = 32;
     const int nbands = (win.height() + kBand - 1) / kBand;
     std::vector<LayerExtents> band(static_cast<std::size_t>(nbands));
-    parallel_for(exec, nbands, [&](long b0, long b1) {
+    const bool banded = parallel_for(exec, nbands, [&](long b0, long b1) {
         for (long b = b0; b < b1; ++b) {
             LayerExtents& e = band[std::size_t(b)];
             e.box.resize(nl);
@@ -219,6 +219,7 @@ LayerExtents layer_extents(const DeepImage& deep, const float* z, const SampleLa
     e.box.resize(nl);
     e.znear.assign(nl, kInf);
     e.zfar.assign(nl, -kInf);
+    if (!banded) return e;  // cancelled: bands it skipped hold nothing (the caller reports it)
     for (const LayerExtents& b : band)
         for (std::size_t l = 0; l < nl; ++l) {
             e.box[l] = unite(e.box[l], b.box[l]);
@@ -314,8 +315,11 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
                                   ? layers_by_id(deep, z, split.id_channel)
                                   : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec));
     if (!sl) return sl.status();
+    // A cancelled pass leaves its output unfinished: stop before using it.
+    if (exec.is_cancelled()) return Status::cancelled("deep layers");
     D->sl_ = std::move(sl).value();
     D->ext_ = layer_extents(deep, z, D->sl_, exec);
+    if (exec.is_cancelled()) return Status::cancelled("deep layers");
     if (extend && D->sl_.count >= 2 && !deep.data_window().empty()) {
         if (Status st = check_extend_options(*extend, deep.data_window()); !st) return st;
         D->extend_on_ = true;

@@ -247,6 +247,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
             }
     }
     L->slices_ = choose_slices(sample_depths, options.split, sample_radii, exec, at_silhouettes ? &grid : nullptr);
+    if (exec.is_cancelled()) return Status::cancelled("depth-map layers");
     sample_depths = {};
     sample_radii = {};
     const int ns = L->slices_.count();

@@ -88,7 +88,7 @@ SilhouetteScan scan_silhouettes(const LogHistogram& h, const SilhouetteGrid& g, 
     auto bin = [&](float z) { return h.bin_of(std::log(double(z))); };
     const NearestAround around = nearest_around(g, reach, exec);
     const float *cr = g.rgb[0], *cg = g.rgb[1], *cb = g.rgb[2];
-    parallel_for(exec, nbands, [&](long b0, long b1) {
+    const bool scanned = parallel_for(exec, nbands, [&](long b0, long b1) {
         for (long band = b0; band < b1; ++band) {
             std::vector<double>& d = diff[std::size_t(band)];
             std::vector<CutNeed>& nd = needs[std::size_t(band)];
@@ -127,6 +127,8 @@ SilhouetteScan scan_silhouettes(const LogHistogram& h, const SilhouetteGrid& g, 
     });
     SilhouetteScan out;
     out.cost.assign(std::size_t(nb) + 1, 0);
+    // Cancelled: bands the loop skipped have no sums; the caller reports it.
+    if (!scanned) return out;
     double run = 0;
     for (long e = 0; e <= nb; ++e) {
         for (const auto& d : diff) run += d[std::size_t(e)];

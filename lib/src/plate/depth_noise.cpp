@@ -53,7 +53,8 @@ float kth_smallest(const std::vector<std::vector<float>>& parts, std::size_t k, 
     constexpr std::size_t kGroups = 8;
     const std::size_t per = (parts.size() + kGroups - 1) / kGroups;
     std::vector<std::vector<std::uint32_t>> group_hist(kGroups);
-    parallel_for(exec, long(kGroups), [&](long g0, long g1) {
+    // Cancelled: some histograms were never made (0; the caller reports it).
+    const bool counted = parallel_for(exec, long(kGroups), [&](long g0, long g1) {
         for (long g = g0; g < g1; ++g) {
             auto& h = group_hist[std::size_t(g)];
             h.assign(kBuckets, 0);
@@ -61,6 +62,7 @@ float kth_smallest(const std::vector<std::vector<float>>& parts, std::size_t k, 
                 for (float v : parts[p]) ++h[bucket(v)];
         }
     });
+    if (!counted) return 0.0f;
     std::vector<std::size_t> hist(kBuckets, 0);
     for (const auto& h : group_hist)
         for (std::size_t b = 0; b < kBuckets; ++b) hist[b] += h[b];
@@ -82,7 +84,7 @@ double estimate_depth_noise(const std::vector<float>& depth, int width, int heig
     // any size, a fraction of a pass over the map. The rows in parallel.
     const int nrows = height >= 3 ? (height - 3) / 4 + 1 : 0;  // y = 1, 5, 9, ... < height - 1
     std::vector<std::vector<float>> rows(static_cast<std::size_t>(nrows));
-    parallel_for(exec, nrows, [&](long r0, long r1) {
+    const bool sampled = parallel_for(exec, nrows, [&](long r0, long r1) {
         for (long r = r0; r < r1; ++r) {
             std::vector<float>& e = rows[std::size_t(r)];
             auto triple = [&](float a, float m, float b) {  // sky (continuous with sky) has no inverse depth to compare
@@ -99,6 +101,7 @@ double estimate_depth_noise(const std::vector<float>& depth, int width, int heig
             }
         }
     }, 8);
+    if (!sampled) return 0.0;  // cancelled: the caller reports it
     std::size_t count = 0;
     for (const auto& r : rows) count += r.size();
     if (count < 16) return 0.0;

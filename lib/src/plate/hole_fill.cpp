@@ -126,7 +126,9 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
     std::vector<int> ring(n);
     std::vector<std::size_t> row_known(std::size_t(H), 0);
     std::vector<std::vector<int>> row_ring1(static_cast<std::size_t>(H));
-    parallel_for(exec, H, [&](long y0, long y1) {
+    // A cancelled pass counts some rows' known pixels as none: stop before
+    // that reads as "nothing to fill from".
+    const bool ringed = parallel_for(exec, H, [&](long y0, long y1) {
         for (long y = y0; y < y1; ++y)
             for (std::size_t i = std::size_t(y) * std::size_t(W); i < std::size_t(y + 1) * std::size_t(W); ++i) {
                 const bool known = !std::isnan(depth[i]);
@@ -134,11 +136,12 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                 row_known[std::size_t(y)] += known ? 1 : 0;
             }
     }, 16);
+    if (!ringed) return Status::cancelled("hole fill");
     std::size_t nknown = 0;
     for (std::size_t k : row_known) nknown += k;
     if (nknown == 0) return Status::error("the depth map has no valid value to fill its holes from");
     if (nknown == n) return Status::ok();
-    parallel_for(exec, H, [&](long y0, long y1) {
+    const bool beside_known = parallel_for(exec, H, [&](long y0, long y1) {
         for (long y = y0; y < y1; ++y)
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
@@ -148,6 +151,7 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                 if (beside) row_ring1[std::size_t(y)].push_back(int(i));
             }
     }, 16);
+    if (!beside_known) return Status::cancelled("hole fill");
     std::vector<std::vector<int>> rings(2);
     std::deque<int> queue;
     for (const std::vector<int>& row : row_ring1)

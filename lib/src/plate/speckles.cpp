@@ -102,7 +102,9 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
             if (continuous(d, depth[std::size_t(j)], continuity)) uf.join(i, j);
         }
     };
-    parallel_for(exec, nbands, [&](long b0, long b1) {
+    // A cancelled pass leaves parents unset (they are not initialised):
+    // nothing after it may follow them. The caller reports the cancel.
+    const bool banded = parallel_for(exec, nbands, [&](long b0, long b1) {
         std::vector<int> up(static_cast<std::size_t>(W)), cur(static_cast<std::size_t>(W));
         for (long b = b0; b < b1; ++b) {
             const int y0 = int(b) * kBand, y1 = std::min(H, y0 + kBand);
@@ -113,6 +115,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
             }
         }
     });
+    if (!banded) return 0;
     for (int b = 1; b < nbands; ++b)
         for (int x = 0; x < W; ++x) join_below(x, b * kBand - 1);
     // Whether each pixel is in a small component, and the roots of those
@@ -120,7 +123,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
     // parallel), once per run of pixels with the same parent.
     FrameBuffer<unsigned char> is_small(n);  // every element set below
     FrameBuffer<int> root(n);                // set where is_small
-    parallel_for(exec, H, [&](long y0, long y1) {
+    const bool found = parallel_for(exec, H, [&](long y0, long y1) {
         const int* parent = uf.parent.data();
         const int* size = uf.size.data();
         unsigned char* sm = is_small.data();
@@ -137,6 +140,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
             }
         }
     }, 16);
+    if (!found) return 0;
     // Per small component: how many of its outside neighbours there are, and
     // how many lie in large components (a large neighbour is in another
     // component). Small components are few: each row lists its pixels'
@@ -145,7 +149,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
         int root, all, big;
     };
     std::vector<std::vector<Count>> row_counts(static_cast<std::size_t>(H));
-    parallel_for(exec, H, [&](long r0, long r1) {
+    const bool counted = parallel_for(exec, H, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
@@ -163,6 +167,7 @@ std::size_t remove_speckles(std::vector<float>& depth, int W, int H, double cont
                 if (c.all) row_counts[std::size_t(y)].push_back(c);
             }
     }, 16);
+    if (!counted) return 0;
     std::unordered_map<int, std::pair<int, int>> comp;  // root -> (all, big)
     for (const auto& row : row_counts)
         for (const Count& c : row) {
