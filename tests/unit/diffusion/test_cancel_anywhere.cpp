@@ -138,10 +138,17 @@ BlurField lens() {
     return f.value();
 }
 
+// Float channels through plane(), UInt ones (a render's ids) through uplane().
 bool same_bits(const Image& x, const Image& y) {
     if (x.data_window() != y.data_window() || x.nchannels() != y.nchannels()) return false;
-    for (int c = 0; c < x.nchannels(); ++c)
-        if (x.npixels() && std::memcmp(x.plane(c), y.plane(c), x.npixels() * sizeof(float)) != 0) return false;
+    const std::size_t n = x.npixels();
+    for (int c = 0; c < x.nchannels() && n; ++c) {
+        const void *a = x.plane(c), *b = y.plane(c);
+        if (!a && !b) a = x.uplane(c), b = y.uplane(c);
+        if (!a && !b) continue;
+        if (!a || !b) return false;
+        if (std::memcmp(a, b, n * sizeof(float)) != 0) return false;
+    }
     return true;
 }
 
