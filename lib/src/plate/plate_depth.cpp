@@ -78,21 +78,20 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
                              StatusCode::InvalidArgument, "depth_encoding");
     if (exec.is_cancelled()) return Status::cancelled("plate depth");
 
-    // Silhouette pixels between two surfaces are found first: they are small
-    // islands too, but not speckles.
     // Each step's parallel loops stop at a cancel and leave their output
     // unfinished: the next step must not run on it (the checks below).
-    auto cancelled = [&] { return exec.is_cancelled(); };
+    // Silhouette pixels between two surfaces are found first: they are small
+    // islands too, but not speckles.
     const std::vector<unsigned char> mixed = mixed_candidates(out.depth, W, H, options.continuity, exec);
-    if (cancelled()) return Status::cancelled("plate depth");
+    if (exec.is_cancelled()) return Status::cancelled("plate depth");
     // Noise is measured on what the sensor gave (holes and speckles do not
     // count: they are not within a surface).
     out.stats.noise = estimate_depth_noise(out.depth, W, H, options.continuity, exec);
-    if (cancelled()) return Status::cancelled("plate depth");
+    if (exec.is_cancelled()) return Status::cancelled("plate depth");
     if (options.remove_speckles) {
         const int max_px = options.speckle_px > 0 ? options.speckle_px : int(std::max<std::size_t>(4, n / 250000));
         out.stats.speckles = remove_speckles(out.depth, W, H, options.continuity, max_px, mixed, exec);
-        if (cancelled()) return Status::cancelled("plate depth");
+        if (exec.is_cancelled()) return Status::cancelled("plate depth");
     }
     // The colour guide (three planes the plate's size) only when there is a
     // hole to fill: most rendered depth has none.
@@ -108,11 +107,11 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     if (options.smooth_noise && out.stats.noise > kNoisyDepth) {
         out.stats.noise_smoothing_radius = kNoiseSmoothingRadius;
         smooth_depth_noise(out.depth, W, H, options.continuity, kNoiseSmoothingRadius, mixed, exec);
-        if (cancelled()) return Status::cancelled("plate depth");
+        if (exec.is_cancelled()) return Status::cancelled("plate depth");
     }
     if (options.mixed_pixels) {
         out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec);
-        if (cancelled()) return Status::cancelled("plate depth");
+        if (exec.is_cancelled()) return Status::cancelled("plate depth");
         if (!was_hole.empty()) {  // the colour decides only holes
             const RgbaIndices ix = find_rgba(plate);
             const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,

@@ -38,6 +38,13 @@ using namespace gdof::test;
 namespace {
 
 const Roi kFrame{0, 0, 96, 64};
+constexpr float kSpeckleDepth = 1.5f;
+
+// The background without noise: the wall at 8 m, the floor below row 40
+// rising from 3 m at the bottom row.
+float background_depth(int y) { return y >= 40 ? 3.0f + 5.0f * float(63 - y) / 23.0f : 8.0f; }
+// Distance from the disc's centre (30, 28); its radius is 12.
+float from_disc_centre(int x, int y) { return std::hypot(float(x) - 30.0f, float(y) - 28.0f); }
 
 // A textured wall at 8 m with noisy depth, a floor rising from 3 m (bottom
 // row) to the wall, a disc at 2 m, holes (depth 0: a sensor's "no value") at
@@ -51,19 +58,18 @@ Image sensor_plate() {
     };
     for (int y = 0; y < kFrame.y1; ++y)
         for (int x = 0; x < kFrame.x1; ++x) {
-            float z = 8.0f * (1.0f + 0.01f * noise());
+            const float wall_noise = 1.0f + 0.01f * noise();
+            float z = y >= 40 ? background_depth(y) : background_depth(y) * wall_noise;
             float rgb[3] = {texture(x, y, 0), texture(x, y, 1), texture(x, y, 2)};
-            if (y >= 40) z = 3.0f + 5.0f * float(63 - y) / 23.0f;  // the floor
-            const float dx = float(x) - 30.0f, dy = float(y) - 28.0f;
-            const bool disc = dx * dx + dy * dy <= 144.0f;
+            const float r = from_disc_centre(x, y);
+            const bool disc = r <= 12.0f;
             if (disc) {
                 z = 2.0f;
                 rgb[0] = 0.9f, rgb[1] = 0.2f, rgb[2] = 0.1f;
             }
-            const bool hole = (std::abs(std::sqrt(dx * dx + dy * dy) - 12.5f) < 1.0f && x > 30) ||
-                              ((x - 70) * (x - 70) + (y - 15) * (y - 15) <= 9);
+            const bool hole = (std::abs(r - 12.5f) < 1.0f && x > 30) || ((x - 70) * (x - 70) + (y - 15) * (y - 15) <= 9);
             if (hole) z = 0.0f;
-            if ((x * 7 + y * 13) % 97 == 0 && !disc) z = 1.5f;  // speckles
+            if ((x * 7 + y * 13) % 97 == 0 && !disc) z = kSpeckleDepth;
             for (int c = 0; c < 3; ++c) img.at(c, x, y) = rgb[c];
             img.at(3, x, y) = 1.0f;
             img.at(4, x, y) = z;
@@ -78,7 +84,7 @@ DeepImage deep_scene() {
     DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, kFrame, kFrame);
     std::vector<std::uint32_t> counts(kFrame.npixels());
     auto rim = [](int x, int y) {
-        const float r = std::hypot(float(x) - 30.0f, float(y) - 28.0f);
+        const float r = from_disc_centre(x, y);
         return r > 11.0f && r <= 12.0f;
     };
     for (int y = 0; y < kFrame.y1; ++y)
@@ -88,7 +94,7 @@ DeepImage deep_scene() {
     for (int y = 0; y < kFrame.y1; ++y)
         for (int x = 0; x < kFrame.x1; ++x) {
             const float z = p.at(4, x, y);
-            const float wall_z = y >= 40 ? 3.0f + 5.0f * float(63 - y) / 23.0f : 8.0f;
+            const float wall_z = background_depth(y);
             if (rim(x, y)) {
                 const float front[5] = {0.45f, 0.1f, 0.05f, 0.5f, 2.0f};
                 const float back[5] = {texture(x, y, 0), texture(x, y, 1), texture(x, y, 2), 1.0f, wall_z};
@@ -96,7 +102,7 @@ DeepImage deep_scene() {
                 k += 2;
             } else {
                 for (int c = 0; c < 4; ++c) d.samples(c)[k] = p.at(c, x, y);
-                d.samples(4)[k] = z > 0.0f && z != 1.5f ? z : wall_z;
+                d.samples(4)[k] = z > 0.0f && z != kSpeckleDepth ? z : wall_z;
                 ++k;
             }
         }
