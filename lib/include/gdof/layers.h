@@ -272,6 +272,13 @@ struct ExtendOptions {
     // inputs, where that measured better on some frames of a focus pull and
     // worse on others).
     bool fill_from_hidden_edge = false;
+    // Colours above 1 enter the fill as 1 + log(v) and come back out as
+    // exp(v - 1); at or below 1 they are unchanged (the map is smooth at 1).
+    // A highlight on the rim (a lamp at 17 beside a ceiling at 0.01) then no
+    // longer rules every average it enters, so it does not glow sideways
+    // into the hidden part. Deep inputs, whose every edge feeds the fill;
+    // on plates, fed by the facing edge only, it measured no gain.
+    bool fill_compresses_highlights = false;
 };
 GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                                      const Exec& exec = {});

@@ -221,6 +221,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
         float *wc = wcol.data(), *wg = wgeo.data();
         std::array<float*, 7> fp = fill;
         const std::array<const float*, 8> sp = layer_planes(src);
+        const bool compress_highlights = opt.fill_compresses_highlights;
         for (int y = int(r0); y < int(r1); ++y) {
             const std::size_t wrow = std::size_t(y) * std::size_t(ww);
             std::fill_n(wc + wrow, ww, 0.0f);
@@ -232,7 +233,10 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 const float al = alpha_p[wi];
                 wc[wi] = al;
                 const std::size_t o = src.offset(work.x0 + x, work.y0 + y);
-                for (int c = 0; c < 3; ++c) fp[std::size_t(c)][wi] = sp[std::size_t(c)][o] / sp[3][o];
+                for (int c = 0; c < 3; ++c) {
+                    const float v = sp[std::size_t(c)][o] / sp[3][o];
+                    fp[std::size_t(c)][wi] = compress_highlights && v > 1.0f ? 1.0f + std::log(v) : v;
+                }
                 bool geo = std::isfinite(sp[4][o]);
                 for (int k = 0; has_p && k < 3; ++k) geo = geo && std::isfinite(sp[std::size_t(5 + k)][o]);
                 if (geo) {
@@ -259,6 +263,14 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
             push_pull_fill(fill_view.channels(3, nfill - 3), ConstImageView::planar(wgeo.data(), 1, work), ext, exec);
     }
     wgeo = {};
+    if (opt.fill_compresses_highlights && have_colour)
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (int c = 0; c < 3; ++c) {
+                float* v = fill[std::size_t(c)];
+                for (std::size_t wi = std::size_t(r0) * ww; wi < std::size_t(r1) * ww; ++wi)
+                    if (ext[wi] && v[wi] > 1.0f) v[wi] = std::exp(v[wi] - 1.0f);
+            }
+        }, 16);
     // The continued coverage (continue_coverage): own alpha (plates, fading at
     // emptiness only: own presence, 1), 0 where seen empty. Where nothing is
     // seen empty and every own pixel is opaque it is 1 everywhere, so the

@@ -122,7 +122,9 @@ TEST(layers_extend, ExtensionStopsAtTheGivenDistance) {
     EXPECT_EQ(bg.data_window().x1, 14);  // pixels 10..13 are within 4 px of x = 9
     EXPECT_EQ(bg.at(3, 13, 4), 1.0f);
     EXPECT_NEAR(bg.at(0, 13, 4), 0.5f, 1e-6);
-    EXPECT_FALSE(extend_layers_behind(layers, win, ExtendOptions{-1.0, false, 0.0f, {}, false, {}}));
+    ExtendOptions negative;
+    negative.extend_px = -1.0;
+    EXPECT_FALSE(extend_layers_behind(layers, win, negative));
 }
 
 // The extension continues what the layer shows at its edge, not what lies
@@ -153,34 +155,52 @@ TEST(layers_extend, ABrightSpotInsideALayerDoesNotLeakIntoItsExtension) {
         }
 }
 
+namespace {
+
+// A dark ceiling (0.001, depth 10) under a nearer band (0.5, depth 2,
+// y < 32), with a wide lamp (30) 8 px below the band whose lower edge meets
+// a farther wall (0.3, depth 20): three layers, the lamp at the ceiling's
+// rim where it meets the wall. Its layers, unextended, and the options that
+// extend them (32 px, as deep inputs: behind full occlusion).
+const Roi kLampFrame{0, 0, 128, 64};
+std::vector<Layer> lamp_above_a_farther_wall() {
+    auto lamp = [](int x, int y) { return y >= 40 && y < 50 && x >= 34 && x < 94; };
+    auto wall = [](int x, int y) { return y >= 50 && x >= 24 && x < 104; };
+    const DeepImage d = opaque_one_sample(
+        kLampFrame, [&](int x, int y) { return y < 32 ? 0.5f : lamp(x, y) ? 30.0f : wall(x, y) ? 0.3f : 0.001f; },
+        [&](int x, int y) { return y < 32 ? 2.0f : wall(x, y) ? 20.0f : 10.0f; });
+    auto layers = layers_from_deep(d, LayerSplit{});
+    EXPECT_TRUE(layers) << layers.message();
+    if (!layers || layers->size() != 3u) {
+        ADD_FAILURE() << "expected three layers";
+        return {};
+    }
+    return std::move(layers).value();
+}
+ExtendOptions reach_32px() {
+    ExtendOptions ext;
+    ext.extend_px = 32.0;
+    ext.occluder_alpha = 0.999f;
+    return ext;
+}
+
+}  // namespace
+
 // With fill_from_hidden_edge (plates) only the edge that faces the hidden
-// pixels feeds their fill: a dark
-// ceiling (0.001, depth 10) under a nearer band (depth 2, y < 32), with a
-// wide lamp (30) 8 px below the band whose lower edge meets a farther wall
-// (depth 20), so the lamp lies at the layer's rim there. That rim borders
-// nothing the extension fills; before, it fed the fill all the same, and the
+// pixels feeds their fill: in lamp_above_a_farther_wall the lamp's lower
+// edge is the ceiling layer's rim, and borders nothing the extension fills; before, it fed the fill all the same, and the
 // ceiling's continuation behind the band took the lamp's light (up to 17
 // here; on the benchmark's Cornell box 0.5 to 7 behind the near ceiling
 // strip, a ceiling of 0.05: a bright line along the strip's blurred edge in
 // one frame of a focus pull).
 TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
-    const Roi win{0, 0, 128, 64};
-    auto lamp = [](int x, int y) { return y >= 40 && y < 50 && x >= 34 && x < 94; };
-    auto wall = [](int x, int y) { return y >= 50 && x >= 24 && x < 104; };
-    const DeepImage d = opaque_one_sample(
-        win,
-        [&](int x, int y) { return y < 32 ? 0.5f : lamp(x, y) ? 30.0f : wall(x, y) ? 0.3f : 0.001f; },
-        [&](int x, int y) { return y < 32 ? 2.0f : wall(x, y) ? 20.0f : 10.0f; });
-    auto layers = layers_from_deep(d, LayerSplit{});
-    ASSERT_TRUE(layers) << layers.message();
-    ASSERT_EQ(layers->size(), 3u);
-    ExtendOptions ext;
-    ext.extend_px = 32.0;
-    ext.occluder_alpha = 0.999f;
+    std::vector<Layer> layers = lamp_above_a_farther_wall();
+    ASSERT_EQ(layers.size(), 3u);
+    ExtendOptions ext = reach_32px();
     ext.fill_from_hidden_edge = true;  // as plates extend
-    std::vector<Layer> every_edge = *layers;
-    ASSERT_TRUE(extend_layers_behind(*layers, d.data_window(), ext));
-    const Image& ceiling = (*layers)[1].image;
+    std::vector<Layer> every_edge = layers;
+    ASSERT_TRUE(extend_layers_behind(layers, kLampFrame, ext));
+    const Image& ceiling = layers[1].image;
     for (int y = 0; y < 32; ++y)
         for (int x = 10; x < 118; x += 4) {
             ASSERT_TRUE(ceiling.data_window().contains(x, y));
@@ -189,8 +209,61 @@ TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
         }
     // Without the option (deep inputs) every edge feeds the fill: the lamp's light reaches behind the band.
     ext.fill_from_hidden_edge = false;
-    ASSERT_TRUE(extend_layers_behind(every_edge, d.data_window(), ext));
+    ASSERT_TRUE(extend_layers_behind(every_edge, kLampFrame, ext));
     float brightest = 0.0f;
     for (int x = 10; x < 118; x += 4) brightest = std::max(brightest, every_edge[1].image.at(0, x, 20));
     EXPECT_GT(brightest, 0.1f);
+}
+
+// fill_compresses_highlights (deep inputs): colours above 1 are averaged as
+// 1 + log(v). The map is increasing and concave, so by Jensen's inequality
+// a continuation can only be darker than the linear fill's (which averages
+// the same rim values with the same weights), never brighter, and it stays
+// within the rim's range; a uniform colour above 1 comes back as itself.
+// lamp_above_a_farther_wall, every edge feeding the fill (deep inputs): the
+// lamp (30) at the rim beside a dark ceiling glows into the ceiling's
+// continuation behind the band (the "lamp wings" of the benchmark's deep
+// Cornell box).
+TEST(layers_extend, CompressedHighlightsFillNoBrighterThanTheLinearFill) {
+    const std::vector<Layer> layers = lamp_above_a_farther_wall();
+    ASSERT_EQ(layers.size(), 3u);
+    ExtendOptions ext = reach_32px();
+    std::vector<Layer> linear = layers, compressed = layers;
+    ASSERT_TRUE(extend_layers_behind(linear, kLampFrame, ext));
+    ext.fill_compresses_highlights = true;
+    ASSERT_TRUE(extend_layers_behind(compressed, kLampFrame, ext));
+    const Image &lin = linear[1].image, &com = compressed[1].image;
+    ASSERT_TRUE(lin.data_window() == com.data_window());
+    float brightest_linear = 0.0f, brightest = 0.0f;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 128; ++x) {
+            if (!lin.data_window().contains(x, y) || !(lin.at(3, x, y) > 0.0f)) continue;
+            ASSERT_EQ(com.at(3, x, y), lin.at(3, x, y));
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_LE(com.at(c, x, y), lin.at(c, x, y) * (1.0f + 1e-5f)) << x << "," << y;
+                EXPECT_GE(com.at(c, x, y), 0.001f * (1.0f - 1e-5f)) << x << "," << y;
+            }
+            EXPECT_EQ(com.at(4, x, y), lin.at(4, x, y));  // depth is not a colour
+            brightest_linear = std::max(brightest_linear, lin.at(0, x, y));
+            brightest = std::max(brightest, com.at(0, x, y));
+        }
+    EXPECT_GT(brightest_linear, 1.0f);
+    EXPECT_LT(brightest, 0.5f * brightest_linear);
+    // Own pixels are not touched.
+    for (int x = 34; x < 94; x += 7) EXPECT_EQ(com.at(0, x, 45), 30.0f);
+
+    // A uniform wall at 20 behind the band: its continuation is 20 (the
+    // round trip through the log is exact up to rounding).
+    const DeepImage bright = opaque_one_sample(
+        kLampFrame, [](int, int y) { return y < 32 ? 0.5f : 20.0f; }, [](int, int y) { return y < 32 ? 2.0f : 10.0f; });
+    auto two = layers_from_deep(bright, LayerSplit{});
+    ASSERT_TRUE(two) << two.message();
+    ASSERT_EQ(two->size(), 2u);
+    ASSERT_TRUE(extend_layers_behind(*two, bright.data_window(), ext));
+    const Image& behind = (*two)[1].image;
+    for (int y = 0; y < 32; y += 3)
+        for (int x = 0; x < 128; x += 5) {
+            ASSERT_TRUE(behind.data_window().contains(x, y));
+            EXPECT_NEAR(behind.at(0, x, y), 20.0f, 20.0f * 1e-5f) << x << "," << y;
+        }
 }
