@@ -15,7 +15,12 @@
 //      exactly, not flattened; a poorly conditioned fit falls back to the
 //      surface's weighted mean.
 // A pixel whose window holds nothing of its colour looks further
-// (kWideWindow) before falling back to the window's best guess.
+// (kWideWindow); with nothing alike there either, but its colour on the
+// hole's rim (the first known pixel in one of 8 directions, within
+// kRimSearch) and the hole inside the frame, it waits for later rings (up
+// to kMaxWait), as the fill from that side may bring its own surface within
+// reach; otherwise, or after that, it falls back to the window's best
+// guess.
 // Rings are computed one after another, the pixels of a ring in parallel:
 // each reads only earlier rings, so the result does not depend on the
 // thread count.
@@ -23,6 +28,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <mutex>
 
 #include "plate/plate_internal.h"
 
@@ -42,6 +48,28 @@ constexpr int kWideWindow = 12;
 constexpr double kWideSpatialSigma = 6.0;
 const double kColourMatch = std::exp(-2.0);
 constexpr double kSameSurface = 1.10;  // depth ratio to the median: the same surface
+// The windows are in pixels, so a hole wider than the wide window can hold
+// a pole's edge that the ground's fill reaches first (the pole's own side
+// beyond the wide window: the benchmark's 1920x1080 degraded depth); each of its
+// pixels would then take the ground's depth from the one before, and the
+// pole's edge would blur as the ground. Such a pixel waits, ring by ring,
+// until the pole's fill comes within reach (or kMaxWait rings have passed).
+// Only a surface seen on the rim is waited for, and not in a hole that
+// reaches the frame's edge (a sensor's missing sky, open to what lies
+// outside the frame): there, black sky waited for some dark rim pixel and
+// was then swept in streaks by that side's depth.
+constexpr int kMaxWait = 2 * kWideWindow;
+constexpr int kRimSearch = 64;
+
+// Calls f(j) for each 4-neighbour j of pixel i inside the W x H frame.
+template <class F>
+void for_each_4_neighbour(int i, int W, int H, F&& f) {
+    const int x = i % W, y = i / W;
+    if (x + 1 < W) f(i + 1);
+    if (x > 0) f(i - 1);
+    if (y + 1 < H) f(i + W);
+    if (y > 0) f(i - W);
+}
 
 struct Candidate {
     float depth;
@@ -163,18 +191,35 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
     while (!queue.empty()) {
         const int i = queue.front();
         queue.pop_front();
-        const int x = i % W, y = i / W;
-        const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-        for (const auto& o : nb) {
-            const int xx = x + o[0], yy = y + o[1];
-            if (xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-            const int j = yy * W + xx;
-            if (ring[std::size_t(j)] >= 0) continue;
+        for_each_4_neighbour(i, W, H, [&](int j) {
+            if (ring[std::size_t(j)] >= 0) return;
             const int r = ring[std::size_t(i)] + 1;
             ring[std::size_t(j)] = r;
             if (int(rings.size()) <= r) rings.resize(std::size_t(r) + 1);
             rings[std::size_t(r)].push_back(j);
             queue.push_back(j);
+        });
+    }
+    // The holes that reach the frame's edge (flooded from their pixels on
+    // it): their pixels never wait.
+    std::vector<unsigned char> open(guide.empty() ? 0 : n, 0);
+    if (!guide.empty()) {
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const int i = y * W + x;
+                if ((x == 0 || y == 0 || x == W - 1 || y == H - 1) && ring[std::size_t(i)] > 0) {
+                    open[std::size_t(i)] = 1;
+                    queue.push_back(i);
+                }
+            }
+        while (!queue.empty()) {
+            const int i = queue.front();
+            queue.pop_front();
+            for_each_4_neighbour(i, W, H, [&](int j) {
+                if (ring[std::size_t(j)] == 0 || open[std::size_t(j)]) return;
+                open[std::size_t(j)] = 1;
+                queue.push_back(j);
+            });
         }
     }
     const double inv_s = 1.0 / (2 * kSpatialSigma * kSpatialSigma);
@@ -189,10 +234,36 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
         return t;
     };
     const std::vector<double> near_weight = spatial_table(kWindow, inv_s), wide_weight = spatial_table(kWideWindow, inv_wide);
+    std::vector<unsigned char> waits(guide.empty() ? 0 : n, 0);
+    // Whether the first known pixel (ring 0: known from the start) in one of
+    // the 8 directions from (x, y), within kRimSearch, has pixel i's colour.
+    auto colour_on_rim = [&](int x, int y, int i) {
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                if (dx == 0 && dy == 0) continue;
+                for (int k = 1; k <= kRimSearch; ++k) {
+                    const int xx = x + k * dx, yy = y + k * dy;
+                    if (xx < 0 || xx >= W || yy < 0 || yy >= H) break;
+                    const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                    if (ring[j] != 0) continue;
+                    double dc = 0;
+                    for (int c = 0; c < 3; ++c) {
+                        const double v = guide.c[c][std::size_t(i)] - guide.c[c][j];
+                        dc += v * v;
+                    }
+                    if (std::exp(-dc * inv_c) >= kColourMatch) return true;
+                    break;
+                }
+            }
+        return false;
+    };
+    std::mutex waiting_lock;
     for (std::size_t r = 1; r < rings.size(); ++r) {
         const std::vector<int>& pixels = rings[r];
+        std::vector<int> waiting;  // for ring r + 1: nothing alike in reach yet, or no known pixel in the window
         Status st = parallel_run(exec, long(pixels.size()), [&](long b, long e) {
             std::vector<Candidate> cand, sorted;
+            std::vector<int> wait_here;
             for (long k = b; k < e; ++k) {
                 const int i = pixels[std::size_t(k)];
                 const int x = i % W, y = i / W;
@@ -225,16 +296,41 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                 };
                 if (gather(kWindow, near_weight) < kColourMatch && !guide.empty()) {
                     const std::vector<Candidate> near = cand;
-                    if (!(gather(kWideWindow, wide_weight) >= kColourMatch)) cand = near;  // nothing alike further either
+                    if (!(gather(kWideWindow, wide_weight) >= kColourMatch)) {  // nothing alike further either
+                        const unsigned char waited = waits[std::size_t(i)];
+                        if (!open[std::size_t(i)] && waited < kMaxWait && (waited > 0 || colour_on_rim(x, y, i))) {
+                            wait_here.push_back(i);
+                            continue;
+                        }
+                        cand = near;
+                    }
                 }
-                // Ring r always has a 4-neighbour in ring r - 1.
+                // Empty only when the pixels that made its ring waited.
+                if (cand.empty()) {
+                    wait_here.push_back(i);
+                    continue;
+                }
                 sorted = cand;
                 depth[std::size_t(i)] = continue_surface(cand, weighted_median(sorted));
+            }
+            if (!wait_here.empty()) {
+                const std::lock_guard<std::mutex> hold(waiting_lock);
+                waiting.insert(waiting.end(), wait_here.begin(), wait_here.end());
             }
             return Status::ok();
         }, 256, "depth hole fill");
         if (!st) return st;
-        filled += pixels.size();
+        filled += pixels.size() - waiting.size();
+        if (waiting.empty()) continue;
+        // Each pixel decided from earlier rings only: the same set for any
+        // thread count (sorted: the same order too).
+        std::sort(waiting.begin(), waiting.end());
+        if (rings.size() <= r + 1) rings.resize(r + 2);
+        for (int i : waiting) {
+            ring[std::size_t(i)] = int(r + 1);
+            if (!waits.empty() && waits[std::size_t(i)] < kMaxWait) ++waits[std::size_t(i)];
+            rings[r + 1].push_back(i);
+        }
     }
     return Status::ok();
 }
