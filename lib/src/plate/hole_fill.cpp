@@ -234,6 +234,15 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
         return t;
     };
     const std::vector<double> near_weight = spatial_table(kWindow, inv_s), wide_weight = spatial_table(kWideWindow, inv_wide);
+    // How alike pixels i and j look in the plate (1: the same colour).
+    auto affinity = [&](std::size_t i, std::size_t j) {
+        double dc = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double v = guide.c[c][i] - guide.c[c][j];
+            dc += v * v;
+        }
+        return std::exp(-dc * inv_c);
+    };
     std::vector<unsigned char> waits(guide.empty() ? 0 : n, 0);
     // Whether the first known pixel (ring 0: known from the start) in one of
     // the 8 directions from (x, y), within kRimSearch, has pixel i's colour.
@@ -246,12 +255,7 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                     if (xx < 0 || xx >= W || yy < 0 || yy >= H) break;
                     const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
                     if (ring[j] != 0) continue;
-                    double dc = 0;
-                    for (int c = 0; c < 3; ++c) {
-                        const double v = guide.c[c][std::size_t(i)] - guide.c[c][j];
-                        dc += v * v;
-                    }
-                    if (std::exp(-dc * inv_c) >= kColourMatch) return true;
+                    if (affinity(std::size_t(i), j) >= kColourMatch) return true;
                     break;
                 }
             }
@@ -281,14 +285,9 @@ Status fill_holes(std::vector<float>& depth, int W, int H, const Guide& guide, c
                             if (rj < 0 || std::size_t(rj) >= r) continue;
                             double w = spatial[std::size_t(dy + radius) * std::size_t(2 * radius + 1) + std::size_t(dx + radius)];
                             if (!guide.empty()) {
-                                double dc = 0;
-                                for (int c = 0; c < 3; ++c) {
-                                    const double v = guide.c[c][std::size_t(i)] - guide.c[c][std::size_t(j)];
-                                    dc += v * v;
-                                }
-                                const double affinity = std::exp(-dc * inv_c);
-                                best = std::max(best, affinity);
-                                w *= affinity + 1e-6;  // never all zero
+                                const double a = affinity(std::size_t(i), std::size_t(j));
+                                best = std::max(best, a);
+                                w *= a + 1e-6;  // never all zero
                             }
                             cand.push_back({depth[std::size_t(j)], w, dx, dy});
                         }
