@@ -26,8 +26,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "bench_cli.h"
 #include "gdof/defocus.h"
 #include "gdof/io/image_io.h"
@@ -35,11 +33,11 @@
 #include "gdof/raytrace.h"
 #include "gdof/scene.h"
 #include "methods/bench_metrics.h"
+#include "methods/cached_scene.h"
 #include "methods/open_aperture.h"
 
 using namespace gdof;
 namespace fs = std::filesystem;
-using json = nlohmann::json;
 
 [[noreturn]] void gdof::bench::die(const std::string& m) {
     std::fprintf(stderr, "bench_focus_pull: %s\n", m.c_str());
@@ -74,31 +72,15 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string out = "bench_out", cache = "bench_cache";
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--out") out = bench::option_value(argc, argv, i);
-        else if (a == "--cache") cache = bench::option_value(argc, argv, i);
-        else die("unknown argument '" + a + "' (--out DIR --cache DIR)");
-    }
-    const std::string path = GDOF_SOURCE_DIR "/examples/render/cornell.json";
-    const std::string dir = cache + "/cornell_" + std::to_string(kW) + "x" + std::to_string(kH);
-    for (const char* f : {"/pinhole_q.exr", "/deep_q.exr"})
-        if (!fs::exists(dir + f))
-            die(dir + f + " is missing: run the method benchmark first (tests/bench/run, or bench_methods --sizes " +
-                "640x360 --scenes cornell --methods diffusion)");
-    fs::create_directories(out);
-    std::ifstream in(path);
-    if (!in) die("cannot read " + path);
-    json j = json::parse(in);
-    j["camera"]["resolution"] = {kW, kH};
-    const Scene scene = take(parse_scene(j.dump(), fs::path(path).parent_path().string()), path);
+    const bench::OutAndCache args = bench::out_and_cache(argc, argv);
+    const std::string& out = args.out;
+    const bench::CachedScene cached = bench::cached_scene(args.cache, "cornell", kW, kH);
+    const Scene& scene = cached.scene;
+    const std::string &path = cached.path, &dir = cached.dir;
     const auto tracer = take(RayTracer::build(scene), "building " + path);
     const Camera& cam = scene.camera;
     const Roi frame = cam.display_window();
-    ImageSet plate, deep;
-    plate.parts.emplace_back(take(io::read_flat(dir + "/pinhole_q.exr"), "plate"));
-    deep = take(io::read_image(dir + "/deep_q.exr"), "deep render");
+    const ImageSet &plate = cached.plate, &deep = cached.deep;
 
     // The method benchmark's thin-lens aperture: 10 px of blur, with the
     // camera's focus, at the nearest depths (the plate's 2nd percentile).

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "gdof/fill.h"
@@ -17,8 +19,53 @@ TEST(fill, ConstantStaysConstantAndKnownPixelsAreKept) {
         }
     v[0] = -7.0f;  // garbage where the weight is 0 must be overwritten
     const Roi win{0, 0, W, H};
-    ASSERT_TRUE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win)));
-    for (float x : v) EXPECT_FLOAT_EQ(x, 3.25f);
+    for (FillGrids grids : {FillGrids::Single, FillGrids::Spun}) {
+        std::vector<float> f = v;
+        ASSERT_TRUE(push_pull_fill(ImageView::planar(f.data(), 1, win), ConstImageView::planar(w.data(), 1, win), Exec{},
+                                   grids));
+        for (float x : f) EXPECT_FLOAT_EQ(x, 3.25f);
+    }
+}
+
+// What a fill continues behind a hidden strip follows the picture when it
+// moves (a pan; a foreground moving over a background). A step from 0 to 1
+// hidden by a 26 px strip centred on it, moved by 0..31 px: where the fill
+// puts the step (the strip's end minus the fill's sum along a row) should sit
+// at the strip's middle, whatever the offset, as the picture is symmetric
+// there. One pyramid puts it on its own cell boundaries: 5 px either side
+// of the middle, as the offset moves; four offset grids (Spun) keep it
+// within 2 px (1.5).
+TEST(fill, SpunGridsKeepAHiddenEdgeWhereThePictureMovesIt) {
+    const int W = 160, H = 40, half = 13;
+    const Roi win{0, 0, W, H};
+    for (FillGrids grids : {FillGrids::Single, FillGrids::Spun}) {
+        double lo = 1e9, hi = -1e9;
+        for (int shift = 0; shift < 32; ++shift) {
+            const int edge = 60 + shift;
+            std::vector<float> v(W * H), w(W * H);
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x) {
+                    const bool hidden = x >= edge - half && x < edge + half;
+                    v[y * W + x] = hidden ? 0.0f : (x < edge ? 0.0f : 1.0f);
+                    w[y * W + x] = hidden ? 0.0f : 1.0f;
+                }
+            ASSERT_TRUE(push_pull_fill(ImageView::planar(v.data(), 1, win), ConstImageView::planar(w.data(), 1, win),
+                                       Exec{}, grids));
+            for (int y : {0, H / 2, H - 1}) {
+                double sum = 0.0;
+                for (int x = edge - half; x < edge + half; ++x) sum += v[y * W + x];
+                const double at = double(edge + half) - sum - double(edge);  // 0: the strip's middle
+                lo = std::min(lo, at);
+                hi = std::max(hi, at);
+            }
+        }
+        std::printf("grids %d: the filled step %.2f .. %.2f px from the strip's middle\n", int(grids), lo, hi);
+        if (grids == FillGrids::Spun) {
+            EXPECT_LT(std::max(-lo, hi), 2.0);
+        } else {
+            EXPECT_GT(hi - lo, 4.0);  // the effect the spins remove
+        }
+    }
 }
 
 TEST(fill, ExtrapolationIsSmoothAndBetweenTheKnownValues) {
@@ -176,27 +223,32 @@ TEST(fill, OnlyTheWantedPixelsAreFilledWithTheWholeFillsBits) {
         wanted[i] = std::abs(x - 2 * y) < 9 || (x % 29 == 3 && y % 17 == 5) ? 1 : 0;
     }
     const Roi win{0, 0, W, H};
-    std::vector<float> whole = v, part = v;
-    for (int c = 0; c < 2; ++c)
-        for (std::size_t i = 0; i < n; ++i)
-            if (!(w[i] > 0.0f)) part[std::size_t(c) * n + i] = std::nanf("");
-    ASSERT_TRUE(push_pull_fill(ImageView::planar(whole.data(), 2, win), ConstImageView::planar(w.data(), 1, win)));
-    ASSERT_TRUE(push_pull_fill(ImageView::planar(part.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
-                               std::span<const unsigned char>(wanted)));
-    std::size_t filled = 0;
-    for (int c = 0; c < 2; ++c)
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t k = std::size_t(c) * n + i;
-            if (w[i] > 0.0f) {
-                EXPECT_EQ(part[k], v[k]) << "known " << i;
-            } else if (wanted[i]) {
-                EXPECT_EQ(part[k], whole[k]) << "wanted " << i;
-                ++filled;
-            } else {
-                EXPECT_TRUE(std::isnan(part[k])) << "not wanted " << i;
+    for (FillGrids grids : {FillGrids::Single, FillGrids::Spun}) {
+        SCOPED_TRACE(grids == FillGrids::Spun ? "spun" : "single");
+        std::vector<float> whole = v, part = v;
+        for (int c = 0; c < 2; ++c)
+            for (std::size_t i = 0; i < n; ++i)
+                if (!(w[i] > 0.0f)) part[std::size_t(c) * n + i] = std::nanf("");
+        ASSERT_TRUE(push_pull_fill(ImageView::planar(whole.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
+                                   Exec{}, grids));
+        ASSERT_TRUE(push_pull_fill(ImageView::planar(part.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
+                                   std::span<const unsigned char>(wanted), Exec{}, grids));
+        std::size_t filled = 0;
+        for (int c = 0; c < 2; ++c)
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::size_t k = std::size_t(c) * n + i;
+                if (w[i] > 0.0f) {
+                    EXPECT_EQ(part[k], v[k]) << "known " << i;
+                } else if (wanted[i]) {
+                    EXPECT_EQ(part[k], whole[k]) << "wanted " << i;
+                    ++filled;
+                } else {
+                    EXPECT_TRUE(std::isnan(part[k])) << "not wanted " << i;
+                }
             }
-        }
-    EXPECT_GT(filled, 500u);
+        EXPECT_GT(filled, 500u);
+    }
+    std::vector<float> part = v;
     std::vector<unsigned char> short_mask(n - 1, 1);
     EXPECT_FALSE(push_pull_fill(ImageView::planar(part.data(), 2, win), ConstImageView::planar(w.data(), 1, win),
                                 std::span<const unsigned char>(short_mask)));
