@@ -408,9 +408,14 @@ bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, std::
     std::array<std::optional<FirstLevel>, 4> firsts;
     const std::size_t spins = grids == FillGrids::Spun ? kSpins.size() : 1;
     const float scale = 1.0f / float(spins);
+    // Spin k's first level: its grid's offset (ox, oy) as ox + 2 oy.
+    auto first_of = [&](std::size_t k) {
+        return std::size_t(grid_offset(kSpins[k], 0, 0, width) + 2 * grid_offset(kSpins[k], 0, 1, height));
+    };
     for (std::size_t k = 0; k < spins; ++k) {
-        const int ox = grid_offset(kSpins[k], 0, 0, width), oy = grid_offset(kSpins[k], 0, 1, height);
-        std::optional<FirstLevel>& first = firsts[std::size_t(ox + 2 * oy)];
+        const std::size_t f = first_of(k);
+        const int ox = int(f % 2), oy = int(f / 2);
+        std::optional<FirstLevel>& first = firsts[f];
         if (!first) {
             first.emplace();
             first->level = push(width, height, w.plane(0), level0, true, ox, oy, exec);
@@ -419,8 +424,7 @@ bool push_pull_fill(const ImageView& planes, const ConstImageView& weight, std::
         }
         // A later spin from the same first level needs it as pushed.
         bool shared = false;
-        for (std::size_t j = k + 1; j < spins; ++j)
-            shared = shared || (grid_offset(kSpins[j], 0, 0, width) == ox && grid_offset(kSpins[j], 0, 1, height) == oy);
+        for (std::size_t j = k + 1; j < spins; ++j) shared = shared || first_of(j) == f;
         push_pull(p.planes(), w.plane(0), width, height, wanted, *first, shared, kSpins[k], Deposit{scale, k > 0}, exec);
     }
     p.store();

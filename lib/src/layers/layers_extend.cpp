@@ -72,9 +72,7 @@ constexpr int kRim = 4;
 // extension's reach from its own pixels, which no blur brings into view:
 // one pyramid there (90% of the 4K frame benchmark's farthest layer's
 // extension; all spun, its fill took 0.31 s, against 0.13 s split and 0.09 s
-// on one grid). The fills of a layer's blur radius (defocus_diffuse) stay on
-// one grid: they cover each layer's whole window, spinning them cost 6% of a
-// 1080p plate's wall time, and a pan moved the result 12-20% less.
+// on one grid).
 struct FillPixels {
     FrameBuffer<unsigned char> spun, single;  // `single` empty: none
     bool any_spun = false;
