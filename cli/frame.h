@@ -29,6 +29,9 @@ struct StackEntry {
     // Colour space of the colour channels after --colorconvert (canonical
     // name); "" while they are in the scene-linear working space.
     std::string colorspace;
+    // The depth channel --depth attached, and from which file ("": none): a
+    // --depth-channel after it names another channel, which the image lacks.
+    std::string attached_depth, attached_from;
 };
 
 // A parsed --blurfield (blur_state.h).

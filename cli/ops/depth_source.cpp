@@ -3,6 +3,7 @@
 // PositionSource).
 #include <limits>
 
+#include "camera_field.h"
 #include "cli.h"
 #include "ops/ops.h"
 
@@ -31,8 +32,27 @@ std::vector<Command> depth_source_commands() {
     t.push_back(source_option({"--position-channels"}, "NAME",
                               "position layer (Pworld) or three channels (px,py,pz) for --eval-blur",
                               [](Frame& f, const Step& s) { f.source.position_channels = s.args[0]; }));
-    t.push_back(source_option({"--depth-channel"}, "NAME", "depth channel for --eval-blur (default Z)",
-                              [](Frame& f, const Step& s) { f.source.depth_channel = s.args[0]; }));
+    t.push_back(source_option(
+        {"--depth-channel"}, "NAME",
+        "depth channel for --diffuse, --eval-blur, --focus-at and --probe (default Z); before --depth, the channel it "
+        "reads from its file",
+        [](Frame& f, const Step& s) {
+            // After --depth the depth file's channel is chosen and attached
+            // under another name: a later NAME would find no depth, with no
+            // word on why (modifiers act on later steps only).
+            if (!f.stack.empty()) {
+                const StackEntry& top = f.stack.back();
+                bool has = false;
+                for (std::size_t i = 0; i < top.images.size(); ++i)
+                    has = has || (!top.images.is_deep(i) && top.images.flat(i).channel_index(s.args[0]) >= 0);
+                if (!top.attached_depth.empty() && top.attached_depth != s.args[0] && !has)
+                    usage_error(s.flag + " " + s.args[0] + ": comes after --depth, which attached '" +
+                                top.attached_from + "' to " + image_name(top) + " as channel '" + top.attached_depth +
+                                "'; give " + s.flag + " before --depth (there it picks the depth file's channel "
+                                "and names the image's depth channel)");
+            }
+            f.source.depth_channel = s.args[0];
+        }));
     t.push_back(source_option(
         {"--depth-encoding"}, "NAME",
         "depth values are metric (default), inverse, scaled (e.g. uint16 counts), near_far_linear, near_far_inverse, "

@@ -44,6 +44,8 @@ void do_depth(Frame& f, const std::string& path) {
     if (c < 0) c = 0;
     Image& plate = flat_plate(top, "--depth");
     check(attach_depth(plate, depth, c, name, image_name(top), "'" + path + "'"), "--depth");
+    top.attached_depth = name;
+    top.attached_from = path;
 }
 
 void do_view(Frame& f, const Step& s) {

@@ -97,6 +97,21 @@ TEST(cli_plates, DepthAsItsOwnFileEqualsOneFileAndSizesMustMatch) {
                 contains(bad.output, "plate.exr"))
         << bad.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("c.exr")));
+
+    // --depth-channel after --depth: the same name as attached changes
+    // nothing; another one is a usage error naming both and the order, not
+    // a depth that is silently not found.
+    auto same = run_gdof(quote(plate) + " --depth " + quote(z) + " --depth-channel Z" + kLens + " --diffuse -o " +
+                         quote(dir.file("d.exr")));
+    ASSERT_EQ(same.exit_code, 0) << same.output;
+    EXPECT_EQ(max_diff(read_pixels(dir.file("d.exr")), read_pixels(dir.file("b.exr"))), 0.0);
+    auto late = run_gdof(quote(plate) + " --depth " + quote(z) + " --depth-channel Y" + kLens + " --diffuse -o " +
+                         quote(dir.file("e.exr")));
+    EXPECT_EQ(late.exit_code, 2) << late.output;
+    EXPECT_TRUE(contains(late.output, "--depth-channel Y") && contains(late.output, "depth.exr") &&
+                contains(late.output, "'Z'") && contains(late.output, "before --depth"))
+        << late.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("e.exr")));
 }
 
 TEST(cli_plates, MultipartDepthPartAndEveryViewOfAStereoFile) {
