@@ -30,7 +30,7 @@ double invalid(const Step& s) {
 std::vector<Command> depth_source_commands() {
     std::vector<Command> t;
     t.push_back(source_option({"--position-channels"}, "NAME",
-                              "position layer (Pworld) or three channels (px,py,pz) for --eval-blur",
+                              "position layer (Pworld) or three channels (px,py,pz) for --diffuse and --eval-blur",
                               [](Frame& f, const Step& s) { f.source.position_channels = s.args[0]; }));
     t.push_back(source_option(
         {"--depth-channel"}, "NAME",
