@@ -1,6 +1,9 @@
 // The camera and the blur field of an image part (camera_field.h).
 #include "camera_field.h"
 
+#include <cmath>
+#include <cstdio>
+
 #include "blur_state.h"
 #include "errors.h"
 #include "gdof/blur_map.h"
@@ -46,6 +49,22 @@ Camera focus_camera(const Frame& f, const Metadata& md, const Roi& display, cons
     lens.focus_distance = *d;
     auto focused = resolve_camera(md, display, lens);
     if (!focused) runtime_error("--focus-at: " + where + ": " + message_naming_flag(focused.status()));
+    // A depth inside the focal length is no scene a lens can focus on: most
+    // often an integer depth file read as 0..1 (as OFX hosts deliver clips
+    // too) and decoded as metres. Say so here, not as a bad focus distance.
+    const LensInfo& li = focused->lens();
+    const double focal = li.focal_length_mm / li.scene_unit_mm;
+    if (std::isfinite(focal) && *d <= focal) {
+        auto num = [](double v) {
+            char b[32];
+            std::snprintf(b, sizeof b, "%g", v);
+            return std::string(b);
+        };
+        runtime_error("--focus-at " + std::to_string(x) + "," + std::to_string(y) + ": " + where +
+                      ": the depth there decodes to " + num(*d) + " scene units, within the focal length (" +
+                      num(focal) + "): check --depth-encoding and --depth-scale (8- and 16-bit files are read as "
+                      "0..1, so millimetres in a 16-bit file are --depth-encoding scaled --depth-scale 65.535)");
+    }
     return std::move(focused).value();
 }
 

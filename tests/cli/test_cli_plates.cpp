@@ -179,6 +179,15 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
     auto out = run_gdof(quote(plate) + kLens + " --focus-at 500,20 --eval-blur -o " + quote(dir.file("c.exr")));
     EXPECT_EQ(out.exit_code, 1);
     EXPECT_TRUE(contains(out.output, "pixel (500, 20)") && contains(out.output, "--focus-at")) << out.output;
+    // A depth inside the lens's focal length (millimetres read as metres, or a
+    // 16-bit file read as 0..1): named as a depth decoding problem, no output.
+    auto mm = run_gdof(quote(plate) + kLens + " --depth-encoding scaled --depth-scale 0.001 --focus-at 45,20 --diffuse -o " +
+                       quote(dir.file("d.exr")));
+    EXPECT_EQ(mm.exit_code, 1);
+    EXPECT_TRUE(contains(mm.output, "--focus-at 45,20") && contains(mm.output, "0.005 scene units") &&
+                contains(mm.output, "focal length (0.035)") && contains(mm.output, "--depth-scale"))
+        << mm.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("d.exr")));
 }
 
 TEST(cli_plates, RealRgbdFramesInOneCommand) {
