@@ -51,6 +51,7 @@
 #include "methods/bench_metrics.h"
 #include "methods/degraded_depth.h"
 #include "methods/gaussian_layers.h"
+#include "methods/one_sample_deep.h"
 #include "methods/open_aperture.h"
 
 using namespace gdof;
@@ -327,6 +328,9 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
         // degraded depth map (holes, noise, uint16 millimetres).
         bench::DegradedDepthStats dstats;
         degraded_set.parts.emplace_back(bench::degraded_depth(pinhole, scale, 0xdefec7, &dstats));
+        // What a perfect plate holds (methods/one_sample_deep.h), through the deep path.
+        ImageSet one_sample_set;
+        one_sample_set.parts.emplace_back(bench::one_sample_deep(deep));
         std::fprintf(stderr, "   degraded depth: %.1f%% holes\n", 100.0 * dstats.hole_fraction);
         // Settings: ADI sub-steps K (0 = automatic) or the explicit solver's
         // safety factor on its iteration count (1 = the stability limit).
@@ -352,6 +356,7 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             {"flat+Z", "8", Exp, 0, 0, false},
             {"flat+Z", "1", Auto},  // one layer: what a continuous surface looks like uncut (seams)
             {"degraded Z", "auto", Auto},
+            {"one-sample deep", "auto", Auto},
             // The previous default (every layer at full resolution) beside today's.
             {"deep", "auto", Auto, 0, 0, true, false, true}, {"flat+Z", "auto", Auto, 0, 0, true, false, true},
             {"degraded Z", "auto", Auto, 0, 0, true, false, true},
@@ -371,7 +376,10 @@ void run_scene(const Options& opt, const std::string& name, const std::string& p
             ds.diffusion.adi_steps = d.adi_steps;
             if (d.safety > 0) ds.diffusion.explicit_safety = d.safety;
             ds.split = take(parse_layer_split(d.layers), "layers");
-            const ImageSet* input = d.input == "deep" ? &deep_set : d.input == "flat+Z" ? &flat_set : &degraded_set;
+            const ImageSet* input = d.input == "deep"              ? &deep_set
+                                    : d.input == "flat+Z"          ? &flat_set
+                                    : d.input == "one-sample deep" ? &one_sample_set
+                                                                   : &degraded_set;
             if (input == &degraded_set) ds.source.depth_decode = DepthDecode{DepthEncoding::Scaled, 1.0 / 1000.0};
             ImageSet result;
             const double secs = best_time(reps, [&] { result = take(defocus(*input, field, cam, ds), "defocus"); });

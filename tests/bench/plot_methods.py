@@ -100,13 +100,15 @@ for key in keys:
             " ".join(key[:2]), d[0]["edge_rel_l1"], d[0]["seconds"], db["edge_rel_l1"], db["method"].split(" ")[1],
             db["setting"], db["seconds"], gb["edge_rel_l1"], gb["setting"], gb["seconds"],
             gb["edge_rel_l1"] / max(db["edge_rel_l1"], 1e-30), fast))
-# Plates (flat RGBA + Z) at their defaults against the deep render, one layer
-# (what a continuous surface looks like uncut: no seams), a degraded depth map
-# and the Gaussian baseline; away = relative L1 away from depth discontinuities.
+# Plates (flat RGBA + Z) at their defaults against the deep render, the deep
+# render reduced to one sample per pixel (what a perfect plate holds, through
+# the deep path), one layer (what a continuous surface looks like uncut: no
+# seams), a degraded depth map and the Gaussian baseline; away = relative L1
+# away from depth discontinuities.
 lines += ["", "**Plates: flat + Z at the defaults (solver auto, layers=auto)**", "",
           "| panel | flat+Z edge | flat+Z away | flat+Z overall | s | degraded Z edge (x clean) | deep edge | deep away "
-          "| one layer edge | one layer away | gaussian best edge | gaussian best away |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "| one-sample deep edge | one layer edge | one layer away | gaussian best edge | gaussian best away |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
 
 def pick(rs, method, setting):
@@ -120,14 +122,16 @@ for key in keys:
     dz = pick(rs, "diffusion auto (degraded Z)", "layers=auto")
     dp = pick(rs, "diffusion auto (deep)", "layers=auto")
     one = pick(rs, "diffusion auto (flat+Z)", "layers=1")
+    os1 = pick(rs, "diffusion auto (one-sample deep)", "layers=auto")
     g = [r for r in rs if r["method"].startswith("gaussian")]
     if not (f and dp and g):
         continue
     ge, ga = min(r["edge_rel_l1"] for r in g), min(r["away_rel_l1"] for r in g)
-    lines.append("| %s | %.4f | %.4f | %.4f | %.3g | %s | %.4f | %.4f | %s | %s | %.4f | %.4f |" % (
+    lines.append("| %s | %.4f | %.4f | %.4f | %.3g | %s | %.4f | %.4f | %s | %s | %s | %.4f | %.4f |" % (
         " / ".join(key), f["edge_rel_l1"], f["away_rel_l1"], f["rel_l1"], f["seconds"],
         "%.4f (%.2f)" % (dz["edge_rel_l1"], dz["edge_rel_l1"] / max(f["edge_rel_l1"], 1e-30)) if dz else "-",
-        dp["edge_rel_l1"], dp["away_rel_l1"], "%.4f" % one["edge_rel_l1"] if one else "-",
+        dp["edge_rel_l1"], dp["away_rel_l1"], "%.4f" % os1["edge_rel_l1"] if os1 else "-",
+        "%.4f" % one["edge_rel_l1"] if one else "-",
         "%.4f" % one["away_rel_l1"] if one else "-", ge, ga))
 
 # The pyramid (the default) against the full-resolution solve (the previous
