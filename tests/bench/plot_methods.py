@@ -11,6 +11,7 @@ errors of diffusion vs the Gaussian baseline).
 """
 import csv
 import math
+import textwrap
 import sys
 from collections import defaultdict
 
@@ -56,7 +57,8 @@ for ax in list(axes.flat)[len(keys):]:
     ax.axis("off")
 handles, labels = axes.flat[0].get_legend_handles_labels()
 fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8)
-fig.suptitle("gdof: error against run time (" + machine + ")", fontsize=11)
+# Wrapped: a merged run's description is longer than the figure is wide.
+fig.suptitle(textwrap.fill("gdof: error against run time (" + machine + ")", 150), fontsize=11)
 fig.tight_layout(rect=(0, 0.05 + 0.1 / nrows, 1, 0.96))
 fig.savefig(out_dir + "/plot.png", dpi=90)
 
