@@ -2,12 +2,12 @@
 #include "camera_field.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "blur_state.h"
 #include "errors.h"
 #include "gdof/blur_map.h"
 #include "gdof/plate.h"
+#include "values.h"
 
 namespace gdof::cli {
 
@@ -54,17 +54,12 @@ Camera focus_camera(const Frame& f, const Metadata& md, const Roi& display, cons
     // too) and decoded as metres. Say so here, not as a bad focus distance.
     const LensInfo& li = focused->lens();
     const double focal = li.focal_length_mm / li.scene_unit_mm;
-    if (std::isfinite(focal) && *d <= focal) {
-        auto num = [](double v) {
-            char b[32];
-            std::snprintf(b, sizeof b, "%g", v);
-            return std::string(b);
-        };
+    if (std::isfinite(focal) && *d <= focal)
         runtime_error("--focus-at " + std::to_string(x) + "," + std::to_string(y) + ": " + where +
-                      ": the depth there decodes to " + num(*d) + " scene units, within the focal length (" +
-                      num(focal) + "): check --depth-encoding and --depth-scale (8- and 16-bit files are read as "
-                      "0..1, so millimetres in a 16-bit file are --depth-encoding scaled --depth-scale 65.535)");
-    }
+                      ": the depth there decodes to " + format_double("%g", *d) +
+                      " scene units, within the focal length (" + format_double("%g", focal) +
+                      "): check --depth-encoding and --depth-scale (8- and 16-bit files are read as 0..1, so "
+                      "millimetres in a 16-bit file are --depth-encoding scaled --depth-scale 65.535)");
     return std::move(focused).value();
 }
 

@@ -2,6 +2,7 @@
 #include "values.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 
 #include "errors.h"
@@ -39,6 +40,12 @@ int parse_count(const std::string& flag, const std::string& v, int lo) {
     if (!n || *n < lo || *n > kIntLimit)
         usage_error(flag + ": expected an integer >= " + std::to_string(lo) + ", got '" + v + "'");
     return int(*n);
+}
+
+std::string format_double(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
 }
 
 }  // namespace gdof::cli

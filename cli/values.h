@@ -17,4 +17,7 @@ int parse_int(const std::string& flag, const std::string& value);
 // An integer in [lo, 1e6]: "expected an integer >= lo".
 int parse_count(const std::string& flag, const std::string& value, int lo);
 
+// `v` printed with one printf conversion (`format`, e.g. "%g"), for messages.
+std::string format_double(const char* format, double v);
+
 }  // namespace gdof::cli

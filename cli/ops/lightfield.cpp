@@ -5,7 +5,6 @@
 // (StackOutput, stack_output.cpp). --stack's row is render.cpp's (it also
 // names the stack --render makes).
 #include <chrono>
-#include <cstdio>
 
 #include "cli.h"
 #include "gdof/focal_stack.h"
@@ -16,16 +15,6 @@
 #include "stack_output.h"
 
 namespace gdof::cli {
-
-namespace {
-
-std::string fmt(const char* f, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
-}
-
-}  // namespace
 
 void do_lightfield_output(Frame& f, const std::string& pattern) {
     Session& s = *f.session;
@@ -67,7 +56,8 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     auto label = [&](std::size_t i) {
         const StackReference& r = planned.references[i];
         return "reference " + std::to_string(i + 1) + "/" + std::to_string(n) + " (disparity " +
-               fmt("%g", r.focus_disparity) + ", aperture " + fmt("%g", r.aperture_radius_views) + ")";
+               format_double("%g", r.focus_disparity) + ", aperture " + format_double("%g", r.aperture_radius_views) +
+               ")";
     };
     auto sink = [&](std::size_t i, Image&& image) -> Status {
         const auto t0 = std::chrono::steady_clock::now();
@@ -96,9 +86,9 @@ void do_lightfield_output(Frame& f, const std::string& pattern) {
     }
     if (s.global.stats) {
         const double refocus_s = t_total - t_write;
-        s.progress.message("gdof: --lightfield: " + std::to_string(n) + " references, " + fmt("%.4g", view_pixels) +
-                           " view x pixels in " + fmt("%.3f", refocus_s) + " s = " +
-                           fmt("%.1f", refocus_s > 0 ? view_pixels / refocus_s / 1e6 : 0.0) +
+        s.progress.message("gdof: --lightfield: " + std::to_string(n) + " references, " + format_double("%.4g", view_pixels) +
+                           " view x pixels in " + format_double("%.3f", refocus_s) + " s = " +
+                           format_double("%.1f", refocus_s > 0 ? view_pixels / refocus_s / 1e6 : 0.0) +
                            " M view x pixels/s (" + std::to_string(central.nchannels()) + " channels)");
     }
 }

@@ -359,8 +359,7 @@ void push_pull(std::span<float* const> planes, const float* weight, int width, i
     if (!levels.empty()) {
         for (int k = 0; k < nc; ++k) ptrs[std::size_t(k)] = v0 + std::size_t(k) * n0;
         pull(l0.w, l0.h, l0.weight.data(), false, ptrs, coarse(levels[0]),
-             first.needed.empty() ? std::span<const unsigned char>{} : std::span<const unsigned char>(first.needed),
-             Deposit{}, exec);
+             first.needed, Deposit{}, exec);
     }
     // Level 0: only the unknown pixels (that are wanted), from the first coarse level.
     pull(width, height, weight, true, planes, coarse(l0, v0), wanted, deposit, exec);
