@@ -3,6 +3,7 @@
 // file), --depth-cleanup (what the plate preparation repairs), --focus-at
 // (focus from a pixel) and --probe (what the pipeline sees at a pixel).
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "camera_field.h"
@@ -68,6 +69,10 @@ std::pair<int, int> pixel(const Step& s) {
     return {parse_int(s.flag, s.args[0].substr(0, comma)), parse_int(s.flag, s.args[0].substr(comma + 1))};
 }
 
+// Prints what it can: depth needs no camera (but to decode a range or a
+// disparity from a baseline), a world position needs one, a blur a lens or a
+// --blurfield. A probe is how a focus distance is chosen, so it must not ask
+// for one first; what is missing is said on the line.
 void do_probe(Frame& f, const Step& s) {
     StackEntry& top = f.top(s.flag);
     const std::string where = image_name(top);
@@ -75,20 +80,37 @@ void do_probe(Frame& f, const Step& s) {
     std::size_t part = 0;
     while (part < top.images.size() && top.images.is_deep(part)) ++part;
     if (part == top.images.size()) runtime_error("--probe: " + where + " has no flat part");
-    const Camera camera = image_camera(f, top.images, part, "--probe", where);
-    const BlurField field = field_for(f, camera, "--probe", where);
-    // The plate as defocus prepares it (its own depth part attached, cleaned).
     const Image& img = top.images.flat(part);
+    std::optional<Camera> camera;
+    std::string missing;
+    if (f.focus_at) {
+        camera = image_camera(f, top.images, part, "--probe", where);
+    } else if (auto c = resolve_camera(top.images.metadata(part), img.display_window(), f.lens)) {
+        camera = std::move(c).value();
+    } else {
+        missing = "no world position or blur: " + message_naming_flag(c.status());
+    }
+    std::optional<BlurField> field;
+    if (camera) {
+        auto lens = camera->thin_lens();
+        if (f.blur || lens) field = field_for(f, *camera, "--probe", where);
+        else missing = "no blur: " + lens.message() + " (--f-number and --focus-distance or --focus-at, or --blurfield)";
+    }
+    // The plate as defocus prepares it (its own depth part attached, cleaned).
     auto z = find_depth_channel(img, f.source.depth_channel);
     if (!z || *z < 0) runtime_error("--probe: " + where + " has no depth channel (give --depth FILE or --depth-channel)");
-    auto pd = prepare_plate_depth(img, *z, f.source.depth_decode, camera, f.defocus.cleanup, f.session->exec);
+    auto pd = camera ? prepare_plate_depth(img, *z, f.source.depth_decode, *camera, f.defocus.cleanup, f.session->exec)
+                     : prepare_plate_depth(img, *z, f.source.depth_decode, f.defocus.cleanup, f.session->exec);
     if (!pd) runtime_error("--probe: " + where + ": " + message_naming_flag(pd.status()));
-    auto p = probe_pixel(*pd, camera, field, x, y);
+    auto p = probe_pixel(*pd, camera ? &*camera : nullptr, field ? &*field : nullptr, x, y);
     if (!p) runtime_error("--probe: " + where + ": " + message_naming_flag(p.status()));
     std::ostringstream o;
-    o << "pixel " << x << "," << y << ": depth " << p->depth << ", world (" << p->position.x << ", " << p->position.y
-      << ", " << p->position.z << "), blur " << p->blur_px << " px" << (p->mixed ? ", a split silhouette pixel" : "")
-      << "\n";
+    o << "pixel " << x << "," << y << ": depth " << p->depth;
+    if (camera) o << ", world (" << p->position.x << ", " << p->position.y << ", " << p->position.z << ")";
+    if (field) o << ", blur " << p->blur_px << " px";
+    if (p->mixed) o << ", a split silhouette pixel";
+    if (!missing.empty()) o << " (" << missing << ")";
+    o << "\n";
     std::cout << o.str();
     std::cout.flush();
 }
@@ -146,7 +168,9 @@ std::vector<Command> plate_commands() {
                  .run = [](Frame& f, const Step& s) { f.focus_at = pixel(s); },
                  .check = [](const Step& s) { pixel(s); }});
     t.push_back({.names = {"--probe"}, .args = "X,Y", .kind = Kind::Action, .group = P,
-                 .help = "print depth, world position and blur radius at pixel X,Y of the top image",
+                 .help = "print depth, world position and blur radius at pixel X,Y of the top image (the depth "
+                         "needs no lens: without a focal length only the depth, without an f-number and focus "
+                         "distance no blur)",
                  .stack = StackUse::NeedsImage, .is_work = true, .prints_result = true, .run = do_probe,
                  .check = [](const Step& s) { pixel(s); }});
     return t;

@@ -3,6 +3,7 @@
 // --view), focus from a pixel (--focus-at) and --probe. Each is checked
 // against the same plate given as one RGBA + Z file, or the thin lens.
 #include <cmath>
+#include <cstdio>
 
 #include "cli_test_helpers.h"
 #include "gdof/camera.h"
@@ -188,6 +189,43 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
                 contains(mm.output, "focal length (0.035)") && contains(mm.output, "--depth-scale"))
         << mm.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("d.exr")));
+}
+
+TEST(cli_plates, ProbeTellsTheDepthBeforeAnyLensIsGiven) {
+    // A probe is how a focus is chosen: it needs no f-number or focus
+    // distance (no blur then), nor a focal length (only the depth then), and
+    // says what is missing. The world position is the camera's unprojection.
+    ScratchDir dir;
+    const std::string plate = dir.file("plate.exr");
+    write_exr(plate, kW, kH, {"R", "G", "B", "A", "Z"},
+              [](int x, int y, int c) { return c < 4 ? (c == 3 ? 1.0f : colour(x, y, c, 0)) : depth(x, y, 0); });
+    auto bare = run_gdof(quote(plate) + " --probe 45,20");
+    ASSERT_EQ(bare.exit_code, 0) << bare.output;
+    EXPECT_TRUE(contains(bare.output, "pixel 45,20: depth 5 (no world position or blur: no camera") &&
+                contains(bare.output, "--focal-length-mm"))
+        << bare.output;
+    EXPECT_FALSE(contains(bare.output, "world (")) << bare.output;
+    auto focal = run_gdof(quote(plate) + " --focal-length-mm 35 --sensor-width-mm 36 --probe 45,20");
+    ASSERT_EQ(focal.exit_code, 0) << focal.output;
+    const double fx = 35.0 / 36.0 * kW, wx = (45.5 - kW / 2.0) / fx * 5.0;
+    char world[64];
+    std::snprintf(world, sizeof world, "world (%g, ", wx);
+    EXPECT_TRUE(contains(focal.output, "pixel 45,20: depth 5, ") && contains(focal.output, world) &&
+                contains(focal.output, ", 5) (no blur") && contains(focal.output, "--focus-at"))
+        << focal.output << " expected " << world;
+    auto full = run_gdof(quote(plate) + kLens + " --probe 25,20");
+    ASSERT_EQ(full.exit_code, 0) << full.output;
+    gdof::ThinLens l;
+    l.focal_length_mm = 35, l.sensor_width_mm = 36, l.f_number = 1, l.focus_distance = 3, l.image_width_px = kW;
+    const std::size_t b = full.output.find("blur ");
+    ASSERT_NE(b, std::string::npos) << full.output;
+    EXPECT_TRUE(contains(full.output, "pixel 25,20: depth 2, ")) << full.output;
+    EXPECT_NEAR(std::stod(full.output.substr(b + 5)), l.coc_radius_px(2.0), 1e-4 * l.coc_radius_px(2.0)) << full.output;
+    EXPECT_FALSE(contains(full.output, "(no ")) << full.output;
+    // A distance along the ray cannot be decoded without a camera: named.
+    auto range = run_gdof(quote(plate) + " --depth-range --probe 45,20");
+    EXPECT_EQ(range.exit_code, 1);
+    EXPECT_TRUE(contains(range.output, "needs a camera") && contains(range.output, "--focal-length-mm")) << range.output;
 }
 
 TEST(cli_plates, RealRgbdFramesInOneCommand) {

@@ -120,10 +120,17 @@ struct GDOF_API PlateDepth {
 // with the camera, converting range to depth when decode.range) and cleans
 // it; `plate`'s R, G, B guide the hole fill (none: the fill is unguided).
 // Errors: a bad decode (naming the setting), a channel out of range, a depth
-// channel with no valid value at all (nothing to fill from).
+// channel with no valid value at all (nothing to fill from), every finite
+// depth within the camera's focal length (a mis-scaled depth file).
 GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
                                                 const Camera& camera, const DepthCleanupOptions& options = {},
                                                 const Exec& exec = {});
+// The same without a camera (a plate with no lens yet, probed to choose
+// one): the depth as stored and decoded; a range (decode.range) or a
+// disparity from a baseline needs the camera and is an error here, and no
+// focal length is checked.
+GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                                const DepthCleanupOptions& options = {}, const Exec& exec = {});
 
 // The median of the finite depths in a (2 r + 1)^2 window around pixel (x, y)
 // (absolute coordinates), sky excluded; NaN when the window has none. A
@@ -141,11 +148,15 @@ GDOF_API Result<double> focus_distance_at(const Image& plate, int depth_channel,
 struct PixelProbe {
     int x = 0, y = 0;
     double depth = 0;       // NaN: no depth there; +inf: sky
-    Vec3 position;          // world position at the pixel centre (NaN when no finite depth)
-    double blur_px = 0;     // the field's blur radius there
+    Vec3 position;          // world position at the pixel centre (NaN when no finite depth or no camera)
+    double blur_px = 0;     // the field's blur radius there (NaN when no depth or no field)
     bool mixed = false;     // a split silhouette pixel (a filled hole at a silhouette, step 5)
 };
 GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
                                         int r = 2);
+// The same with what is known: no camera (nullptr), no world position and
+// no blur; no field, no blur.
+GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera* camera, const BlurField* field, int x,
+                                        int y, int r = 2);
 
 }  // namespace gdof

@@ -62,7 +62,8 @@ Result<double> focus_distance_at(const Image& plate, int depth_channel, const De
     return d;
 }
 
-Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const BlurField& field, int x, int y, int r) {
+Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera* camera, const BlurField* field, int x, int y,
+                               int r) {
     if (!pd.window.contains(x, y))
         return Status::error("probe: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image " +
                                  to_string(pd.window),
@@ -73,17 +74,20 @@ Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const
     const std::size_t i = std::size_t(y - pd.window.y0) * std::size_t(pd.window.width()) + std::size_t(x - pd.window.x0);
     p.mixed = pd.mixed_at(i) != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    p.position = std::isfinite(p.depth) ? camera.unproject(x + 0.5, y + 0.5, p.depth) : Vec3{nan, nan, nan};
-    const PixelDepth s{x + 0.5, y + 0.5, p.depth};
-    float blur = 0;
-    if (std::isnan(p.depth)) {
-        p.blur_px = nan;
-    } else {
-        if (Status st = field.evaluate(camera, std::span<const PixelDepth>(&s, 1), std::span<float>(&blur, 1)); !st)
+    p.position = camera && std::isfinite(p.depth) ? camera->unproject(x + 0.5, y + 0.5, p.depth) : Vec3{nan, nan, nan};
+    p.blur_px = nan;
+    if (camera && field && !std::isnan(p.depth)) {
+        const PixelDepth s{x + 0.5, y + 0.5, p.depth};
+        float blur = 0;
+        if (Status st = field->evaluate(*camera, std::span<const PixelDepth>(&s, 1), std::span<float>(&blur, 1)); !st)
             return st.prefix("probe");
         p.blur_px = blur;
     }
     return p;
+}
+
+Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const BlurField& field, int x, int y, int r) {
+    return probe_pixel(pd, &camera, &field, x, y, r);
 }
 
 }  // namespace gdof

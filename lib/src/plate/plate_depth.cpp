@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
+#include "common/format_number.h"
 #include "plate/plate_internal.h"
 
 namespace gdof {
@@ -28,8 +30,29 @@ std::string DepthCleanupStats::report() const {
            noise_text + (noise_smoothing_radius > 0 ? " (smoothed " + window + ")" : "");
 }
 
-Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
-                                       const Camera& camera, const DepthCleanupOptions& options, const Exec& exec) {
+namespace {
+
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+
+// A plate whose every finite depth lies within the camera's focal length
+// shows nothing a lens could focus on: almost always an integer depth file
+// read as 0..1 and decoded as scene units (millimetres at scale 0.001), which
+// would otherwise defocus the whole frame at the largest blur, silently.
+// Unknown focal length (a camera from matrices alone): not checked.
+Status check_depth_beyond_focal_length(float nearest, float farthest, const std::string& channel, const Camera& camera) {
+    const LensInfo& li = camera.lens();
+    const double focal = li.focal_length_mm / li.scene_unit_mm;
+    if (!(focal > 0.0) || !std::isfinite(focal) || !(farthest >= nearest) || double(farthest) > focal) return Status::ok();
+    return Status::error("plate depth: every depth of channel '" + channel + "' decodes within the camera's focal length (" +
+                             format_number(nearest, 6) + " to " + format_number(farthest, 6) + " scene units; focal length " +
+                             format_number(focal, 6) + "), where no lens can focus: check the depth's encoding and scale "
+                             "(8- and 16-bit files are read as 0..1, so millimetres in a 16-bit file are scaled by 65.535)",
+                         StatusCode::InvalidArgument, "depth_scale");
+}
+
+// prepare_plate_depth with or without a camera (nullptr).
+Result<PlateDepth> prepare(const Image& plate, int depth_channel, const DepthDecode& decode, const Camera* camera,
+                           const DepthCleanupOptions& options, const Exec& exec) {
     if (depth_channel < 0 || depth_channel >= plate.nchannels())
         return Status::error("plate depth: channel index " + std::to_string(depth_channel) + " out of range",
                              StatusCode::InvalidArgument, "depth_channel");
@@ -46,7 +69,15 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     if (options.speckle_px < 0 || options.speckle_px > 100000)
         return Status::error("plate depth: speckle_px must be in 0..100000, got " + std::to_string(options.speckle_px),
                              StatusCode::InvalidArgument, "speckle_px");
-    auto dec = resolve_depth_decode(decode, camera);
+    if (!camera && (decode.range || (decode.encoding == DepthEncoding::Disparity && !std::isnan(decode.baseline))))
+        return Status::error("depth channel '" + plate.channel(depth_channel).name + "': " +
+                                 (decode.range ? "a distance along the ray" : "a disparity from a baseline") +
+                                 " needs a camera to decode (a focal length)",
+                             StatusCode::InvalidArgument, "focal_length_mm");
+    // Without a camera nothing below reads one: the decode needs none.
+    Result<DepthDecode> dec = decode;
+    if (camera) dec = resolve_depth_decode(decode, *camera);
+    else if (Status st = decode.validate(); !st) dec = st;
     if (!dec) return dec.status().prefix("depth channel '" + plate.channel(depth_channel).name + "'");
 
     PlateDepth out;
@@ -58,19 +89,30 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     out.stats.pixels = n;
     const float* raw = plate.plane(depth_channel);
     std::vector<std::size_t> row_holes(std::size_t(H), 0);
+    std::vector<float> row_near(std::size_t(H), kInfF), row_far(std::size_t(H), -kInfF);  // finite depths' range
     parallel_for(exec, H, [&](long r0, long r1) {
         for (int y = int(r0); y < int(r1); ++y)
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
                 double z = decode_depth(raw[i], *dec);
                 if (dec->range && std::isfinite(z))
-                    z /= length(camera.depth_line(win.x0 + x + 0.5, win.y0 + y + 0.5).per_depth);
+                    z /= length(camera->depth_line(win.x0 + x + 0.5, win.y0 + y + 0.5).per_depth);
                 out.depth[i] = float(z);
                 if (std::isnan(z)) ++row_holes[std::size_t(y)];
+                if (std::isfinite(out.depth[i])) {
+                    row_near[std::size_t(y)] = std::min(row_near[std::size_t(y)], out.depth[i]);
+                    row_far[std::size_t(y)] = std::max(row_far[std::size_t(y)], out.depth[i]);
+                }
             }
     }, 16);
     for (std::size_t h : row_holes) out.stats.holes += h;
     if (n == 0) return out;
+    if (camera)
+        if (Status st = check_depth_beyond_focal_length(*std::min_element(row_near.begin(), row_near.end()),
+                                                        *std::max_element(row_far.begin(), row_far.end()),
+                                                        plate.channel(depth_channel).name, *camera);
+            !st)
+            return st;
     if (out.stats.holes == n)
         return Status::error("plate depth: channel '" + plate.channel(depth_channel).name +
                                  "' has no valid depth (every value is invalid under the " + to_string(dec->encoding) +
@@ -123,6 +165,18 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;
     return out;
+}
+
+}  // namespace
+
+Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                       const Camera& camera, const DepthCleanupOptions& options, const Exec& exec) {
+    return prepare(plate, depth_channel, decode, &camera, options, exec);
+}
+
+Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                       const DepthCleanupOptions& options, const Exec& exec) {
+    return prepare(plate, depth_channel, decode, nullptr, options, exec);
 }
 
 const MixedPixel* PlateDepth::mixed_at(std::size_t index) const {

@@ -209,6 +209,31 @@ TEST(plate_depth, InvalidValuesAreSkyOnlyWhenMarked) {
     EXPECT_NE(bad.message().find("'Z'"), std::string::npos) << bad.message();
 }
 
+TEST(plate_depth, ADepthWithinTheFocalLengthEverywhereIsAnError) {
+    // The plate's depth in millimetres decoded at scale 0.001 where a 16-bit
+    // file read as 0..1 needs 65.535: every depth lands within the 35 mm
+    // focal length (2e-5 to 2e-4 scene units). An error naming the channel,
+    // the range and the focal length. The same depth correctly scaled is
+    // fine, and so is a plate whose nearest surface alone (not all of it)
+    // lies within the focal length: only all of it is impossible.
+    const Image mm = plate([](int x, int y) { return float(true_depth(x, y) * 1000.0 / 65535.0); });
+    DepthDecode wrong;
+    wrong.encoding = DepthEncoding::Scaled;
+    wrong.scale = 0.001;
+    auto bad = prepare_plate_depth(mm, 4, wrong, flags_camera());
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.message().find("'Z'"), std::string::npos) << bad.message();
+    EXPECT_NE(bad.message().find("focal length 0.035)"), std::string::npos) << bad.message();
+    EXPECT_EQ(bad.status().subject(), "depth_scale");
+    DepthDecode right = wrong;
+    right.scale = 65.535;
+    auto good = prepare_plate_depth(mm, 4, right, flags_camera());
+    ASSERT_TRUE(good) << good.message();
+    EXPECT_NEAR(at(*good, 5, 5), true_depth(5, 5), 1e-3 * true_depth(5, 5));
+    const Image near_box = plate([](int x, int y) { return in_box(x, y) ? 0.02f : float(true_depth(x, y)); });
+    EXPECT_TRUE(prepare_plate_depth(near_box, 4, DepthDecode{}, flags_camera()));
+}
+
 TEST(plate_depth, SpecklesAreRemovedAndThinStructuresKept) {
     // Isolated wrong pixels (1 and 2 px) on the ground, and a true pole one
     // pixel wide at depth 1.2.
