@@ -2,6 +2,7 @@
 #include "camera_field.h"
 
 #include <cmath>
+#include <iostream>
 
 #include "blur_state.h"
 #include "errors.h"
@@ -43,8 +44,14 @@ Camera image_camera(const Frame& f, const ImageSet& set, std::size_t part, const
 Camera focus_camera(const Frame& f, const Metadata& md, const Roi& display, const Image& plate, int zc,
                     const Camera& camera, const std::string& where) {
     const auto [x, y] = *f.focus_at;
-    auto d = focus_distance_at(plate, zc, f.source.depth_decode, camera, x, y);
-    if (!d) runtime_error("--focus-at: " + where + ": " + message_naming_flag(d.status()));
+    auto picked = focus_distance_at(plate, zc, f.source.depth_decode, camera, x, y, f.defocus.cleanup, f.session->exec);
+    if (!picked) runtime_error("--focus-at: " + where + ": " + message_naming_flag(picked.status()));
+    const double* d = &picked->distance;
+    // A guess, not a measurement: said.
+    if (picked->filled)
+        std::cerr << "gdof: --focus-at " << x << "," << y << ": " << where
+                  << ": no measured depth within 2 px; focusing at the depth the hole fill gives there ("
+                  << format_double("%g", *d) << ")\n";
     LensOverrides lens = f.lens;
     lens.focus_distance = *d;
     auto focused = resolve_camera(md, display, lens);

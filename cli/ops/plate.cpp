@@ -163,8 +163,8 @@ std::vector<Command> plate_commands() {
                  },
                  .check = [](const Step& s) { cleanup(s); }});
     t.push_back({.names = {"--focus-at"}, .args = "X,Y", .kind = Kind::Modifier, .group = P,
-                 .help = "focus at the depth of pixel X,Y (median of 5x5 valid depths): the thin lens's focus "
-                         "distance, and a --blurfield refocused there",
+                 .help = "focus at the depth of pixel X,Y (median of 5x5 valid depths; none valid: the depth the "
+                         "hole fill gives there): the thin lens's focus distance, and a --blurfield refocused there",
                  .run = [](Frame& f, const Step& s) { f.focus_at = pixel(s); },
                  .check = [](const Step& s) { pixel(s); }});
     t.push_back({.names = {"--probe"}, .args = "X,Y", .kind = Kind::Action, .group = P,

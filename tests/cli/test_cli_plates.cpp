@@ -189,6 +189,18 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
                 contains(mm.output, "focal length (0.035)") && contains(mm.output, "--depth-scale"))
         << mm.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("d.exr")));
+    // A hole wider than the median's window under the pixel: the depth the
+    // hole fill gives there (the wall's 5), said on stderr.
+    const std::string holed = dir.file("holed.exr");
+    write_exr(holed, kW, kH, {"R", "G", "B", "A", "Z"}, [](int x, int y, int c) {
+        if (c < 4) return c == 3 ? 1.0f : colour(x, y, c, 0);
+        return std::abs(x - 50) <= 5 && std::abs(y - 10) <= 5 ? 0.0f : depth(x, y, 0);
+    });
+    auto h = run_gdof(quote(holed) + kLens + " --focus-at 50,10 --probe 50,10 --eval-blur -o " + quote(dir.file("h.exr")));
+    ASSERT_EQ(h.exit_code, 0) << h.output;
+    EXPECT_TRUE(contains(h.output, "no measured depth within 2 px; focusing at the depth the hole fill gives there (5)") &&
+                contains(h.output, "pixel 50,10: depth 5, ") && contains(h.output, "blur 0 px"))
+        << h.output;
 }
 
 TEST(cli_plates, ProbeTellsTheDepthBeforeAnyLensIsGiven) {

@@ -137,12 +137,22 @@ GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_ch
 // focus distance picked from the picture: robust to noise, holes and edges.
 GDOF_API double depth_at(const PlateDepth& depth, int x, int y, int r = 2);
 
-// The focus distance a pixel asks for, straight from the plate (no whole-frame
-// preparation): channel `depth_channel` decoded in the (2 r + 1)^2 window
-// around (x, y) and depth_at's median of it; +inf for sky. Errors: a pixel
-// outside the data window, a window without one valid depth (naming both).
-GDOF_API Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
-                                          const Camera& camera, int x, int y, int r = 2);
+// The focus distance a pixel asks for: channel `depth_channel` decoded in
+// the (2 r + 1)^2 window around (x, y) and depth_at's median of it; +inf for
+// sky. Where the window holds no valid depth (a hole wider than it: a
+// sensor's shadow, glass, a black surface), the depth the plate's
+// preparation fills there under `cleanup`, which is the depth the defocus
+// gives those pixels (`filled`; the whole plate is prepared only then).
+// Errors: a pixel outside the data window (naming it), a bad decode, a plate
+// without one valid depth.
+struct FocusDistance {
+    double distance = 0;
+    bool filled = false;  // from the filled depth: nothing measured within r px
+};
+GDOF_API Result<FocusDistance> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                                 const Camera& camera, int x, int y,
+                                                 const DepthCleanupOptions& cleanup = {}, const Exec& exec = {},
+                                                 int r = 2);
 
 // What a pixel of a plate is: its depth (depth_at), world position and blur.
 struct PixelProbe {

@@ -31,8 +31,9 @@ double depth_at(const PlateDepth& pd, int x, int y, int r) {
     return med;
 }
 
-Result<double> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
-                                 const Camera& camera, int x, int y, int r) {
+Result<FocusDistance> focus_distance_at(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                        const Camera& camera, int x, int y, const DepthCleanupOptions& cleanup,
+                                        const Exec& exec, int r) {
     const std::string at = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
     if (!plate.data_window().contains(x, y))
         return Status::error("focus at " + at + ": outside the image " + to_string(plate.data_window()),
@@ -46,7 +47,7 @@ Result<double> focus_distance_at(const Image& plate, int depth_channel, const De
     auto dec = resolve_depth_decode(decode, camera);
     if (!dec) return dec.status().prefix("focus at " + at);
     // The window decoded as prepare_plate_depth decodes (holes stay NaN and
-    // drop out of the median).
+    // drop out of the median): no whole-frame preparation for a measured pixel.
     PlateDepth pd;
     pd.window = intersect(plate.data_window(), Roi{x - r, y - r, x + r + 1, y + r + 1});
     for (int yy = pd.window.y0; yy < pd.window.y1; ++yy)
@@ -56,10 +57,10 @@ Result<double> focus_distance_at(const Image& plate, int depth_channel, const De
             pd.depth.push_back(float(z));
         }
     const double d = depth_at(pd, x, y, r);
-    if (std::isnan(d))
-        return Status::error("focus at " + at + ": no valid depth within " + std::to_string(r) + " px",
-                             StatusCode::NotFound, "focus_at");
-    return d;
+    if (!std::isnan(d)) return FocusDistance{d, false};
+    auto whole = prepare_plate_depth(plate, depth_channel, decode, camera, cleanup, exec);
+    if (!whole) return whole.status().prefix("focus at " + at);
+    return FocusDistance{depth_at(*whole, x, y, r), true};
 }
 
 Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera* camera, const BlurField* field, int x, int y,

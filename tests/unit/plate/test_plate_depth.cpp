@@ -534,5 +534,28 @@ TEST(plate_depth, FocusFromAPixelIsRobustToNoiseHolesAndEdges) {
     EXPECT_FALSE(probe_pixel(*pd, cam, *field, kW, 0));
 }
 
+TEST(plate_depth, FocusInAHoleWiderThanTheWindowTakesTheFilledDepth) {
+    // A 21x21 hole on the ground around the pixel: nothing measured within
+    // the 5x5 window, so the focus is the depth the preparation fills there
+    // (said), close to the ground's true depth and the same as the
+    // prepared plate's; a measured pixel is not marked filled.
+    const Image img = plate([](int x, int y) {
+        return std::abs(x - 30) <= 10 && std::abs(y - 95) <= 10 ? 0.0f : float(true_depth(x, y));
+    });
+    const Camera cam = flags_camera();
+    auto hole = focus_distance_at(img, 4, DepthDecode{}, cam, 30, 95);
+    ASSERT_TRUE(hole) << hole.message();
+    EXPECT_TRUE(hole->filled);
+    EXPECT_NEAR(hole->distance, true_depth(30, 95), 0.05 * true_depth(30, 95));
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, cam);
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_EQ(hole->distance, depth_at(*pd, 30, 95));
+    auto measured = focus_distance_at(img, 4, DepthDecode{}, cam, 30, 84);  // the window's top row is measured
+    ASSERT_TRUE(measured) << measured.message();
+    EXPECT_FALSE(measured->filled);
+    EXPECT_NEAR(measured->distance, true_depth(30, 83), 1e-5);
+    EXPECT_FALSE(focus_distance_at(img, 4, DepthDecode{}, cam, kW, 10));
+}
+
 }  // namespace
 }  // namespace gdof
