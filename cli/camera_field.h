@@ -21,9 +21,10 @@ Camera part_camera(const Frame& f, const Metadata& md, const Roi& display, const
 // depth channel).
 Camera image_camera(const Frame& f, const ImageSet& set, std::size_t part, const std::string& flag,
                     const std::string& where);
-// `camera` focused at --focus-at's pixel, from depth channel `zc` of `plate`.
+// The camera of `md` and `display` focused at --focus-at's pixel, from depth
+// channel `zc` of `plate`.
 Camera focus_camera(const Frame& f, const Metadata& md, const Roi& display, const Image& plate, int zc,
-                    const Camera& camera, const std::string& where);
+                    const std::string& where);
 // --blurfield (refocused at the camera's focus distance after --focus-at),
 // else a thin lens from the camera's lens data.
 BlurField field_for(const Frame& f, const Camera& camera, const std::string& flag, const std::string& where);

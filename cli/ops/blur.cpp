@@ -67,11 +67,9 @@ bool eval_blur_flat(Frame& f, Image& img, const std::string& where, std::vector<
             return false;
         }
     }
-    Camera camera = part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
-    if (f.focus_at) {
-        if (*z < 0) runtime_error("--focus-at: " + where + " has no depth channel '" + depth_channel_name(f) + "'");
-        camera = focus_camera(f, img.metadata, img.display_window(), img, *z, camera, where);
-    }
+    if (f.focus_at && *z < 0) runtime_error("--focus-at: " + where + " has no depth channel '" + depth_channel_name(f) + "'");
+    const Camera camera = f.focus_at ? focus_camera(f, img.metadata, img.display_window(), img, *z, where)
+                                     : part_camera(f, img.metadata, img.display_window(), "--eval-blur", where);
     const BlurField field = field_for(f, camera, "--eval-blur", where);
     // Output channel: replaces an existing float "blur".
     int bc = img.channel_index("blur");

@@ -96,13 +96,10 @@ void do_probe(Frame& f, const Step& s) {
         if (f.blur || lens) field = field_for(f, *camera, "--probe", where);
         else missing = "no blur: " + lens.message() + " (--f-number and --focus-distance or --focus-at, or --blurfield)";
     }
-    // The plate as defocus prepares it (its own depth part attached, cleaned).
     auto z = find_depth_channel(img, f.source.depth_channel);
     if (!z || *z < 0) runtime_error("--probe: " + where + " has no depth channel (give --depth FILE or --depth-channel)");
-    auto pd = camera ? prepare_plate_depth(img, *z, f.source.depth_decode, *camera, f.defocus.cleanup, f.session->exec)
-                     : prepare_plate_depth(img, *z, f.source.depth_decode, f.defocus.cleanup, f.session->exec);
-    if (!pd) runtime_error("--probe: " + where + ": " + message_naming_flag(pd.status()));
-    auto p = probe_pixel(*pd, camera ? &*camera : nullptr, field ? &*field : nullptr, x, y);
+    auto p = probe_plate(img, *z, f.source.depth_decode, f.defocus.cleanup, camera ? &*camera : nullptr,
+                         field ? &*field : nullptr, x, y, f.session->exec);
     if (!p) runtime_error("--probe: " + where + ": " + message_naming_flag(p.status()));
     std::ostringstream o;
     o << "pixel " << x << "," << y << ": depth " << p->depth;

@@ -131,12 +131,11 @@ public:
             const int y = f.gdof_y(int(std::floor(p.focus_at[1] * f.sy)));
             auto opts = defocus_settings(p);
             if (!opts) fail(opts.message());
-            auto d = focus_distance_at(img, img.channel_index("Z"), opts->source.depth_decode, *camera, x, y,
-                                       opts->cleanup);
-            if (!d) fail("focus_at: " + d.message());
-            p.focus_distance = d->distance;
-            camera = resolve_camera(Metadata{}, f.display, lens_overrides(p));
-            if (!camera) fail("camera: " + camera.message());
+            auto focused = focus_camera_at(Metadata{}, f.display, lens_overrides(p), img, img.channel_index("Z"),
+                                           opts->source.depth_decode, opts->cleanup, x, y);
+            if (!focused) fail("focus_at: " + focused.message());
+            p.focus_distance = focused->focus.distance;
+            camera = std::move(focused->camera);
         }
 
         BlurField::Context ctx;

@@ -29,6 +29,7 @@ from ._gdof import (  # noqa: F401
     LayerSplit,
     LensInfo,
     Metadata,
+    PixelProbe,
     PositionSource,
     PsfField,
     Roi,
@@ -39,6 +40,7 @@ from ._gdof import (  # noqa: F401
     composite,
     defocus,
     extract_stack,
+    probe,
     read_image,
     render,
     resolve_camera,
@@ -48,6 +50,6 @@ from ._gdof import (  # noqa: F401
 __all__ = [
     "Aperture", "BlurField", "Camera", "DeepImage", "DefocusOptions", "DefocusStats", "DepthCleanupOptions",
     "DepthDecode", "DiffusionOptions", "Error", "Image", "ImageSet", "LayerSplit", "LensInfo", "Metadata",
-    "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "read_image",
-    "render", "resolve_camera", "write_image",
+    "PixelProbe", "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "probe",
+    "read_image", "render", "resolve_camera", "write_image",
 ]

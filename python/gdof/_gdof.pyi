@@ -129,6 +129,11 @@ class Image:
 
     def rename_channel(self, arg0: object, arg1: str, /) -> None: ...
 
+    def attach_depth(self, depth: Image, channel: object | None = None, name: str = 'Z') -> None:
+        """
+        --depth FILE: puts a depth map's channel (`channel` by name or index; default the one named `name`, else the first) into this plate as channel `name` (default Z); the sizes must match
+        """
+
     def __repr__(self) -> str: ...
 
     @property
@@ -889,9 +894,41 @@ class DefocusStats:
 
     def report(self) -> str: ...
 
-def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, psf_field: PsfField | dict | str | None = None, psf_samples: int | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, smooth_noise: bool | None = None, mixed_pixels: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None) -> ImageSet:
+def defocus(input: ImageSet | Image | DeepImage | list[Image | DeepImage], blurfield: BlurField | None = None, camera: Camera | None = None, *, options: DefocusOptions | None = None, stats: DefocusStats | None = None, progress: object | None = None, threads: int = 0, filter: str | None = None, aperture: Aperture | str | None = None, psf_field: PsfField | dict | str | None = None, psf_samples: int | None = None, solver: str | None = None, adi_steps: int | None = None, explicit_safety: float | None = None, max_radius: float | None = None, pyramid: bool | None = None, layers: LayerSplit | str | int | None = None, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, smooth_noise: bool | None = None, mixed_pixels: bool | None = None, roi: Roi | tuple[int, int, int, int] | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None, focus_at: tuple[int, int] | None = None) -> ImageSet:
     """
-    Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's (resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is --bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=).
+    Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's (resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is --bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=); focus_at=(x, y) is --focus-at X,Y.
+    """
+
+class PixelProbe:
+    """What probe() finds at a pixel (plate.h); NaN where unknown"""
+
+    @property
+    def x(self) -> int: ...
+
+    @property
+    def y(self) -> int: ...
+
+    @property
+    def depth(self) -> float:
+        """median depth of the 5x5 pixels around (+inf: sky)"""
+
+    @property
+    def position(self) -> tuple:
+        """world position (NaN without a camera)"""
+
+    @property
+    def blur_px(self) -> float:
+        """blur radius in pixels (NaN without a camera and a lens or field)"""
+
+    @property
+    def mixed(self) -> bool:
+        """a split silhouette pixel"""
+
+    def __repr__(self) -> str: ...
+
+def probe(input: ImageSet | Image | list[Image | DeepImage], x: int, y: int, blurfield: BlurField | None = None, camera: Camera | None = None, *, position_channels: str | None = None, depth_channel: str | None = None, depth_encoding: str | None = None, depth_scale: float | None = None, depth_near: float | None = None, depth_far: float | None = None, depth_invalid: str | float | None = None, depth_invalid_value: float | None = None, depth_max: float | None = None, baseline: float | None = None, depth_range: bool | None = None, remove_speckles: bool | None = None, smooth_noise: bool | None = None, mixed_pixels: bool | None = None, focal_length_mm: float | None = None, sensor_width_mm: float | None = None, f_number: float | None = None, focus_distance: float | None = None, scene_unit_mm: float | None = None, focus_at: tuple[int, int] | None = None) -> PixelProbe:
+    """
+    --probe X,Y: depth, world position and blur at pixel (x, y) of the input's first flat part, its depth decoded and cleaned as defocus() does (the same keywords). Needs no lens: without a focal length only the depth, without an f-number and focus distance no blur (NaN).
     """
 
 def composite(manifest: str, *, surfaces: object | None = None, near_map: Image | None = None, far_map: Image | None = None, image: Image | None = None, blurfield: BlurField | None = None, camera: Camera | None = None, soft: int = 1, aovs: bool = False, progress: object | None = None, threads: int = 0) -> Image:

@@ -5,7 +5,9 @@
 // focal_length_mm=, ...); filter="vibrate" is method 4 (--vibrate).
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
@@ -13,6 +15,7 @@
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
 #include "gdof/defocus.h"
+#include "gdof/plate.h"
 #include "gdof_python.h"
 
 namespace gdof::python {
@@ -46,11 +49,22 @@ double invalid_of(const nb::handle& h) {
     return nb::cast<double>(h);
 }
 
+// A pixel given as (x, y), as --focus-at X,Y and --probe X,Y take it.
+std::pair<int, int> pixel_of(const nb::handle& h, const char* what) {
+    auto seq = nb::cast<std::vector<int>>(h);
+    if (seq.size() != 2)
+        raise(Status::error(std::string(what) + ": expected (x, y), got " + std::to_string(seq.size()) + " values",
+                            StatusCode::InvalidArgument, what));
+    return {seq[0], seq[1]};
+}
+
 // defocus()'s keywords: the CLI's flags without dashes, each setting one
-// field of DefocusOptions (or of the lens overrides of the camera).
+// field of DefocusOptions (or of the lens overrides of the camera, or the
+// pixel to focus at).
 struct Settings {
     DefocusOptions options;
     LensOverrides lens;
+    std::optional<std::pair<int, int>> focus_at;
 };
 using Setter = std::function<void(Settings&, const nb::handle&)>;
 const std::map<std::string, Setter>& keywords() {
@@ -85,21 +99,55 @@ const std::map<std::string, Setter>& keywords() {
         {"f_number", [](Settings& s, const nb::handle& v) { s.lens.f_number = nb::cast<double>(v); }},
         {"focus_distance", [](Settings& s, const nb::handle& v) { s.lens.focus_distance = nb::cast<double>(v); }},
         {"scene_unit_mm", [](Settings& s, const nb::handle& v) { s.lens.scene_unit_mm = nb::cast<double>(v); }},
+        {"focus_at", [](Settings& s, const nb::handle& v) { s.focus_at = pixel_of(v, "focus_at"); }},
     };
     return k;
 }
 
-void apply_keywords(Settings& s, const nb::kwargs& kwargs) {
+void apply_keywords(Settings& s, const nb::kwargs& kwargs, const char* function = "defocus") {
     for (auto [key, value] : kwargs) {
         const std::string name = nb::cast<std::string>(key);
         auto it = keywords().find(name);
         if (it == keywords().end()) {
             std::string known;
             for (const auto& [n, setter] : keywords()) known += (known.empty() ? "" : ", ") + n;
-            throw nb::type_error(("defocus(): unknown keyword '" + name + "' (known: " + known + ")").c_str());
+            throw nb::type_error((std::string(function) + "(): unknown keyword '" + name + "' (known: " + known + ")").c_str());
         }
         if (!value.is_none()) it->second(s, value);
     }
+}
+
+// The camera of part `part` as the CLI resolves it: `given`, else the part's
+// metadata with the lens keywords; focused at `focus_at` when given (as
+// --focus-at: then the camera comes from the input, not `given`). Without
+// `required`, a camera that cannot be resolved is none (a probe needs none).
+std::optional<Camera> camera_of(const ImageSet& set, std::size_t part, const Settings& s, std::optional<Camera> given,
+                                bool required) {
+    if (s.focus_at) {
+        if (given)
+            raise(Status::error("focus_at: the focused camera is resolved from the input and the lens keywords; give "
+                                "those instead of camera=",
+                                StatusCode::InvalidArgument, "focus_at"));
+        const auto [x, y] = *s.focus_at;
+        return take(focus_camera_at(set, part, s.lens, s.options.source, s.options.cleanup, x, y)).camera;
+    }
+    if (given) return given;
+    const Roi display = set.is_deep(part) ? set.deep(part).display_window() : set.flat(part).display_window();
+    auto c = resolve_camera(set.metadata(part), display, s.lens);
+    if (!c && !required) return std::nullopt;
+    return take(std::move(c));
+}
+
+// The blur field as the CLI takes it: `given` (refocused at the camera's
+// focus distance after focus_at), else the camera's thin lens. Without
+// `required`, none when the lens is incomplete.
+std::optional<BlurField> field_of(const Camera& camera, const Settings& s, std::optional<BlurField> given,
+                                  bool required) {
+    if (given && s.focus_at) return take(given->refocused(camera.lens().focus_distance));
+    if (given) return given;
+    auto lens = camera.thin_lens();
+    if (!lens && !required) return std::nullopt;
+    return take(BlurField::from_thin_lens(take(std::move(lens))));
 }
 
 }  // namespace
@@ -216,13 +264,10 @@ void register_defocus(nb::module_& m) {
               if (options) s.options = *options;
               apply_keywords(s, kwargs);
               // The camera and field as the CLI takes them: the reference
-              // part's metadata with the lens overrides; the thin lens.
-              if (!camera) {
-                  const std::size_t ref = defocus_reference_part(set);
-                  const Roi display = set.is_deep(ref) ? set.deep(ref).display_window() : set.flat(ref).display_window();
-                  camera = take(resolve_camera(set.metadata(ref), display, s.lens));
-              }
-              if (!blurfield) blurfield = take(BlurField::from_thin_lens(take(camera->thin_lens())));
+              // part's metadata with the lens overrides, focused at focus_at;
+              // the thin lens.
+              camera = camera_of(set, defocus_reference_part(set), s, camera, true);
+              blurfield = field_of(*camera, s, blurfield, true);
               Result<ImageSet> result = ImageSet{};
               run_work(progress, threads, [&](const Exec& exec) {
                   result = defocus(set, *blurfield, *camera, s.options, stats, exec);
@@ -236,7 +281,54 @@ void register_defocus(nb::module_& m) {
           "Method 3: defocuses an ImageSet (deep, multipart, or RGBA + depth; an Image or list is copied in) into "
           "one flat part: R, G, B, A. blurfield defaults to the camera's thin lens, camera to the input's "
           "(resolve_camera with the lens keywords). Keywords: the CLI's flags without dashes; filter='bokeh' is "
-          "--bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=).");
+          "--bokeh, filter='vibrate' --vibrate (method 4, with psf_field= and psf_samples=); focus_at=(x, y) is "
+          "--focus-at X,Y.");
+
+    nb::class_<PixelProbe>(m, "PixelProbe", "What probe() finds at a pixel (plate.h); NaN where unknown")
+        .def_ro("x", &PixelProbe::x)
+        .def_ro("y", &PixelProbe::y)
+        .def_ro("depth", &PixelProbe::depth, "median depth of the 5x5 pixels around (+inf: sky)")
+        .def_prop_ro("position", [](const PixelProbe& p) { return nb::make_tuple(p.position.x, p.position.y, p.position.z); },
+                     "world position (NaN without a camera)")
+        .def_ro("blur_px", &PixelProbe::blur_px, "blur radius in pixels (NaN without a camera and a lens or field)")
+        .def_ro("mixed", &PixelProbe::mixed, "a split silhouette pixel")
+        .def("__repr__", [](const PixelProbe& p) {
+            char b[256];
+            std::snprintf(b, sizeof b, "PixelProbe(x=%d, y=%d, depth=%g, position=(%g, %g, %g), blur_px=%g%s)", p.x, p.y,
+                          p.depth, p.position.x, p.position.y, p.position.z, p.blur_px, p.mixed ? ", mixed=True" : "");
+            return std::string(b);
+        });
+
+    m.def("probe",
+          [](const nb::handle& input, int x, int y, std::optional<BlurField> blurfield, std::optional<Camera> camera,
+             const nb::kwargs& kwargs) {
+              ImageSet storage;
+              const ImageSet& set = to_image_set(input, storage);
+              std::size_t part = 0;
+              while (part < set.size() && set.is_deep(part)) ++part;
+              if (part == set.size())
+                  raise(Status::error("probe: the input has no flat part", StatusCode::InvalidArgument));
+              Settings s;
+              apply_keywords(s, kwargs, "probe");
+              // As --probe: what is known, nothing asked for first.
+              camera = camera_of(set, part, s, camera, false);
+              if (camera) blurfield = field_of(*camera, s, blurfield, false);
+              const Image& plate = set.flat(part);
+              const int z = take(find_depth_channel(plate, s.options.source.depth_channel));
+              if (z < 0)
+                  raise(Status::error("probe: the input has no depth channel '" +
+                                          (s.options.source.depth_channel.empty() ? std::string("Z")
+                                                                                  : s.options.source.depth_channel) +
+                                          "'",
+                                      StatusCode::NotFound, "depth_channel"));
+              return take(probe_plate(plate, z, s.options.source.depth_decode, s.options.cleanup,
+                                      camera ? &*camera : nullptr, blurfield ? &*blurfield : nullptr, x, y));
+          },
+          nb::arg("input"), nb::arg("x"), nb::arg("y"), nb::arg("blurfield") = nb::none(),
+          nb::arg("camera") = nb::none(), nb::arg("kwargs"),
+          "--probe X,Y: depth, world position and blur at pixel (x, y) of the input's first flat part, its depth "
+          "decoded and cleaned as defocus() does (the same keywords). Needs no lens: without a focal length only the "
+          "depth, without an f-number and focus distance no blur (NaN).");
 }
 
 }  // namespace gdof::python

@@ -300,6 +300,18 @@ void register_images(nb::module_& m) {
              },
              nb::arg("channel"), "(H, W) view of one channel by name or index: float32, or uint32 for a uint channel")
         .def("rename_channel", [](Image& img, const nb::handle& which, const std::string& n) { img.rename_channel(channel_of(img, which), n); })
+        .def("attach_depth",
+             [](Image& img, const Image& depth, const nb::handle& channel, const std::string& name) {
+                 // As --depth FILE: the channel named `name` in the depth image, else its first.
+                 const int named = depth.channel_index(name);
+                 const int c = channel.is_none() ? (named >= 0 ? named : 0) : channel_of(depth, channel);
+                 if (depth.nchannels() == 0)
+                     raise(Status::error("attach_depth: the depth image has no channels", StatusCode::InvalidArgument));
+                 check(attach_depth(img, depth, c, name, "the plate", "the depth image"));
+             },
+             nb::arg("depth"), nb::arg("channel") = nb::none(), nb::arg("name") = "Z",
+             "--depth FILE: puts a depth map's channel (`channel` by name or index; default the one named `name`, "
+             "else the first) into this plate as channel `name` (default Z); the sizes must match")
         .def("__repr__", [](const Image& img) {
             std::string names;
             for (const ChannelSpec& s : img.channels()) names += (names.empty() ? "" : ",") + s.name;

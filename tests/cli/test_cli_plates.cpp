@@ -185,7 +185,8 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
     auto mm = run_gdof(quote(plate) + kLens + " --depth-encoding scaled --depth-scale 0.001 --focus-at 45,20 --diffuse -o " +
                        quote(dir.file("d.exr")));
     EXPECT_EQ(mm.exit_code, 1);
-    EXPECT_TRUE(contains(mm.output, "--focus-at 45,20") && contains(mm.output, "0.005 scene units") &&
+    EXPECT_TRUE(contains(mm.output, "--focus-at") && contains(mm.output, "focus at pixel (45, 20)") &&
+                contains(mm.output, "0.005 scene units") &&
                 contains(mm.output, "focal length (0.035)") && contains(mm.output, "--depth-scale"))
         << mm.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("d.exr")));

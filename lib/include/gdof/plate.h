@@ -48,10 +48,12 @@
 #include <vector>
 
 #include "gdof/blur_field.h"
+#include "gdof/blur_map.h"
 #include "gdof/camera.h"
 #include "gdof/exec.h"
 #include "gdof/export.h"
 #include "gdof/image.h"
+#include "gdof/image_set.h"
 #include "gdof/status.h"
 
 namespace gdof {
@@ -154,6 +156,29 @@ GDOF_API Result<FocusDistance> focus_distance_at(const Image& plate, int depth_c
                                                  const DepthCleanupOptions& cleanup = {}, const Exec& exec = {},
                                                  int r = 2);
 
+// The camera of part `part` of `set` (resolve_camera with `lens`) focused
+// at pixel (x, y): focus_distance_at on the part holding the depth (`part`
+// when it has the source's depth channel, else the first flat part that
+// has), decoded as `source` says and cleaned as `cleanup`, becomes the lens's
+// focus distance. What --focus-at, the OFX Defocus's focus point and
+// defocus(focus_at=) in Python do. Errors: no flat part with that depth
+// channel, resolve_camera's, focus_distance_at's, and a depth within the
+// lens's focal length, named as a depth decoding problem (almost always a
+// 16-bit file, read as 0..1, decoded as millimetres: subject depth_scale).
+struct FocusedCamera {
+    Camera camera;
+    FocusDistance focus;
+};
+GDOF_API Result<FocusedCamera> focus_camera_at(const ImageSet& set, std::size_t part, const LensOverrides& lens,
+                                               const PositionSource& source, const DepthCleanupOptions& cleanup,
+                                               int x, int y, const Exec& exec = {});
+// The same for a camera from `metadata` and `display` focused on channel
+// `depth_channel` of `plate`.
+GDOF_API Result<FocusedCamera> focus_camera_at(const Metadata& metadata, const Roi& display, const LensOverrides& lens,
+                                               const Image& plate, int depth_channel, const DepthDecode& decode,
+                                               const DepthCleanupOptions& cleanup, int x, int y,
+                                               const Exec& exec = {});
+
 // What a pixel of a plate is: its depth (depth_at), world position and blur.
 struct PixelProbe {
     int x = 0, y = 0;
@@ -168,5 +193,12 @@ GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& c
 // no blur; no field, no blur.
 GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera* camera, const BlurField* field, int x,
                                         int y, int r = 2);
+// A probe of pixel (x, y) of `plate` as the defocus prepares it: channel
+// `depth_channel` decoded and cleaned (prepare_plate_depth, with the camera
+// when there is one), then probe_pixel with what is known. What --probe and
+// gdof.probe() print: a probe is how a focus is chosen, so it needs no lens.
+GDOF_API Result<PixelProbe> probe_plate(const Image& plate, int depth_channel, const DepthDecode& decode,
+                                        const DepthCleanupOptions& cleanup, const Camera* camera,
+                                        const BlurField* field, int x, int y, const Exec& exec = {});
 
 }  // namespace gdof

@@ -8,6 +8,8 @@
 
 #include "gdof/plate.h"
 
+#include "common/format_number.h"
+
 namespace gdof {
 
 double depth_at(const PlateDepth& pd, int x, int y, int r) {
@@ -63,6 +65,57 @@ Result<FocusDistance> focus_distance_at(const Image& plate, int depth_channel, c
     return FocusDistance{depth_at(*whole, x, y, r), true};
 }
 
+Result<FocusedCamera> focus_camera_at(const Metadata& metadata, const Roi& display, const LensOverrides& lens,
+                                      const Image& plate, int depth_channel, const DepthDecode& decode,
+                                      const DepthCleanupOptions& cleanup, int x, int y, const Exec& exec) {
+    auto camera = resolve_camera(metadata, display, lens);
+    if (!camera) return camera.status();
+    auto picked = focus_distance_at(plate, depth_channel, decode, *camera, x, y, cleanup, exec);
+    if (!picked) return picked.status();
+    LensOverrides focused = lens;
+    focused.focus_distance = picked->distance;
+    auto cam = resolve_camera(metadata, display, focused);
+    if (!cam) return cam.status();
+    // A depth inside the focal length is no scene a lens can focus on: most
+    // often an integer depth file read as 0..1 (as OFX hosts deliver clips
+    // too) and decoded as metres. Said so here, not as a bad focus distance.
+    const LensInfo& li = cam->lens();
+    const double focal = li.focal_length_mm / li.scene_unit_mm;
+    if (std::isfinite(focal) && picked->distance <= focal)
+        return Status::error("focus at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                 "): the depth there decodes to " + format_number(picked->distance, 6) +
+                                 " scene units, within the focal length (" + format_number(focal, 6) +
+                                 "): check the depth's encoding and scale (8- and 16-bit files are read as 0..1, so "
+                                 "millimetres in a 16-bit file are scaled by 65.535)",
+                             StatusCode::InvalidArgument, "depth_scale");
+    return FocusedCamera{std::move(cam).value(), *picked};
+}
+
+Result<FocusedCamera> focus_camera_at(const ImageSet& set, std::size_t part, const LensOverrides& lens,
+                                      const PositionSource& source, const DepthCleanupOptions& cleanup, int x, int y,
+                                      const Exec& exec) {
+    if (part >= set.size())
+        return Status::error("focus at: no part " + std::to_string(part) + " (the image has " +
+                                 std::to_string(set.size()) + ")",
+                             StatusCode::InvalidArgument);
+    // The part with the depth: this one, else the first flat one that has it.
+    const Image* plate = nullptr;
+    int zc = -1;
+    for (std::size_t k = 0; k <= set.size() && !plate; ++k) {
+        const std::size_t i = k == 0 ? part : k - 1;
+        if (i >= set.size() || set.is_deep(i)) continue;
+        auto z = find_depth_channel(set.flat(i), source.depth_channel);
+        if (z && *z >= 0) plate = &set.flat(i), zc = *z;
+    }
+    if (!plate)
+        return Status::error("focus at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                 "): no flat part with a depth channel '" +
+                                 (source.depth_channel.empty() ? std::string("Z") : source.depth_channel) + "'",
+                             StatusCode::NotFound, "depth_channel");
+    const Roi display = set.is_deep(part) ? set.deep(part).display_window() : set.flat(part).display_window();
+    return focus_camera_at(set.metadata(part), display, lens, *plate, zc, source.depth_decode, cleanup, x, y, exec);
+}
+
 Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera* camera, const BlurField* field, int x, int y,
                                int r) {
     if (!pd.window.contains(x, y))
@@ -89,6 +142,15 @@ Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera* camera, const
 
 Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera& camera, const BlurField& field, int x, int y, int r) {
     return probe_pixel(pd, &camera, &field, x, y, r);
+}
+
+Result<PixelProbe> probe_plate(const Image& plate, int depth_channel, const DepthDecode& decode,
+                               const DepthCleanupOptions& cleanup, const Camera* camera, const BlurField* field, int x,
+                               int y, const Exec& exec) {
+    auto pd = camera ? prepare_plate_depth(plate, depth_channel, decode, *camera, cleanup, exec)
+                     : prepare_plate_depth(plate, depth_channel, decode, cleanup, exec);
+    if (!pd) return pd.status();
+    return probe_pixel(*pd, camera, field, x, y);
 }
 
 }  // namespace gdof
