@@ -1,9 +1,12 @@
 // Camera overrides (Frame::lens, a LensOverrides): the flags have the names
-// of the camera JSON keys, and replace what the image's metadata says.
+// of the camera JSON keys, and replace what the image's metadata says;
+// --lens-table sets them per frame of a sequence (a focus pull).
 #include <cmath>
 
 #include "cli.h"
+#include "gdof/io/stack_sources.h"
 #include "ops/ops.h"
+#include "text_input.h"
 
 namespace gdof::cli {
 
@@ -23,6 +26,24 @@ Command lens_option(const char* name, const char* args, const char* help, LensFi
             .check = [](const Step& s) { positive(s); }};
 }
 
+// The lens of `frame` from the table at `path`; runtime errors naming it.
+LensOverrides table_lens(const std::string& path, double frame) {
+    const std::string source = "--lens-table '" + path + "'";
+    auto rows = io::read_lens_table(read_flag_file("--lens-table", "lens table", path), source, io::LensTableKey::Frame);
+    if (!rows) runtime_error(rows.message());
+    auto lens = io::lens_at_frame(*rows, frame, source);
+    if (!lens) runtime_error(lens.message());
+    return *lens;
+}
+
+void apply_lens_table(Frame& f, const Step& s) {
+    if (!f.frame) usage_error("--lens-table: gives each frame's lens: needs a sequence (--frames, or a #### input)");
+    const LensOverrides t = table_lens(s.args[0], *f.frame);
+    for (LensField field : {&LensOverrides::focal_length_mm, &LensOverrides::sensor_width_mm, &LensOverrides::f_number,
+                            &LensOverrides::focus_distance})
+        if (t.*field) f.lens.*field = t.*field;
+}
+
 }  // namespace
 
 std::vector<Command> lens_commands() {
@@ -33,6 +54,13 @@ std::vector<Command> lens_commands() {
         lens_option("--f-number", "N", "lens f-number (overrides metadata)", &L::f_number),
         lens_option("--focus-distance", "D", "lens focus distance in scene units (overrides metadata)", &L::focus_distance),
         lens_option("--scene-unit-mm", "MM", "millimetres per scene unit (default 1000: metres)", &L::scene_unit_mm),
+        {.names = {"--lens-table"}, .args = "FILE", .kind = Kind::Modifier, .group = "Blur field",
+         .help = "each frame's lens (--frames) from a CSV: a header of frame and any of focus_distance, f_number, "
+                 "focal_length_mm, sensor_width_mm, then rows; the frame's row, else interpolated between rows "
+                 "(focus in 1/distance), else the nearest end's; a lens flag after it replaces its column",
+         .run = apply_lens_table,
+         // A bad table stops the run before any frame is made.
+         .preflight = [](const Session&, const Step& s) { table_lens(s.args[0], 0.0); }},
     };
 }
 

@@ -40,6 +40,7 @@ from ._gdof import (  # noqa: F401
     composite,
     defocus,
     extract_stack,
+    lens_at_frame,
     probe,
     read_image,
     render,
@@ -50,6 +51,6 @@ from ._gdof import (  # noqa: F401
 __all__ = [
     "Aperture", "BlurField", "Camera", "DeepImage", "DefocusOptions", "DefocusStats", "DepthCleanupOptions",
     "DepthDecode", "DiffusionOptions", "Error", "Image", "ImageSet", "LayerSplit", "LensInfo", "Metadata",
-    "PixelProbe", "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "probe",
+    "PixelProbe", "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "lens_at_frame", "probe",
     "read_image", "render", "resolve_camera", "write_image",
 ]

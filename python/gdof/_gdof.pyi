@@ -430,6 +430,11 @@ def resolve_camera(metadata: Metadata, display_window: object, *, focal_length_m
     The camera of an image's metadata with lens overrides (the CLI's --focal-length-mm ...); without camera attributes, a camera at the origin looking down +z when a focal length is given.
     """
 
+def lens_at_frame(path: str, frame: float) -> dict:
+    """
+    --lens-table FILE for one frame: the lens keywords (focus_distance, f_number, focal_length_mm, sensor_width_mm) the table gives that frame, as a dict for defocus(..., **lens): the frame's row, else interpolated between rows (focus in 1/distance), else the nearest end's.
+    """
+
 class BlurField:
     """
     The blur field B(x) (docs/blur_field.md): BlurField.parse(dict or JSON text), BlurField.read(path), BlurField.from_thin_lens(lens)

@@ -7,6 +7,8 @@
 #include <nanobind/stl/vector.h>
 
 #include "gdof/camera.h"
+#include "gdof/io/stack_sources.h"
+#include "gdof/text_file.h"
 #include "gdof_python.h"
 
 namespace gdof::python {
@@ -138,6 +140,24 @@ void register_camera(nb::module_& m) {
           nb::arg("focus_distance") = nb::none(), nb::arg("scene_unit_mm") = nb::none(),
           "The camera of an image's metadata with lens overrides (the CLI's --focal-length-mm ...); without "
           "camera attributes, a camera at the origin looking down +z when a focal length is given.");
+
+    m.def("lens_at_frame",
+          [](const std::string& path, double frame) {
+              const std::string source = "lens table '" + path + "'";
+              const std::string text = take(read_text(path));
+              const auto rows = take(io::read_lens_table(text, source, io::LensTableKey::Frame));
+              const LensOverrides l = take(io::lens_at_frame(rows, frame, source));
+              nb::dict d;
+              if (l.focal_length_mm) d["focal_length_mm"] = *l.focal_length_mm;
+              if (l.sensor_width_mm) d["sensor_width_mm"] = *l.sensor_width_mm;
+              if (l.f_number) d["f_number"] = *l.f_number;
+              if (l.focus_distance) d["focus_distance"] = *l.focus_distance;
+              return d;
+          },
+          nb::arg("path"), nb::arg("frame"),
+          "--lens-table FILE for one frame: the lens keywords (focus_distance, f_number, focal_length_mm, "
+          "sensor_width_mm) the table gives that frame, as a dict for defocus(..., **lens): the frame's row, else "
+          "interpolated between rows (focus in 1/distance), else the nearest end's.");
 }
 
 }  // namespace gdof::python

@@ -255,6 +255,7 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
              write_text(p, R"({"pattern": "plain.####.exr", "table": "lens.csv"})");
          }},
         {"lens.csv", [](Fixtures&, const std::string& p) { write_text(p, "frame,focus_distance,f_number\n1,2,2.8\n2,\"4,2.8\n"); }},
+        {"lens_pull.csv", [](Fixtures&, const std::string& p) { write_text(p, "frame,focus_distance\n1,2\n9,4\n"); }},
         {"lf_bad.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"disparity_at_infinity": "far"})"); }},
         {"lfstack_empty.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"disparities": [], "apertures": [1]})"); }},
     };

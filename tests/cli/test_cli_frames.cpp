@@ -117,3 +117,60 @@ TEST(cli_frames, NoFramesOnDiskIsAnError) {
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "none.####.exr")) << r.output;
 }
+
+TEST(cli_frames, LensTablePullsFocusFrameByFrame) {
+    // A plate (a red bar at depth 2 over a wall at 5) over three frames, the
+    // lens from a table with rows at frames 1 and 3: each frame equals a
+    // single run with that frame's lens given as flags, frame 2 the rows
+    // interpolated (focus in 1/distance: 1 / ((1/2 + 1/4) / 2), f-number
+    // linearly: 1.5). A lens flag after the table replaces its column.
+    ScratchDir dir;
+    for (int f = 1; f <= 3; ++f)
+        write_exr(frame_name(dir, "in", f), 48, 32, {"R", "G", "B", "A", "Z"}, [](int x, int y, int c) {
+            const bool bar = x >= 14 && x < 22;
+            if (c == 4) return bar ? 2.0f : 5.0f;
+            if (c == 3) return 1.0f;
+            return bar ? (c == 0 ? 1.0f : 0.0f) : 0.2f + 0.1f * float((x / 3 + y / 3 + c) % 3);
+        });
+    write_text(dir.file("lens.csv"), "# a focus pull\nframe,focus_distance,f_number\n3,4,2\n1,2,1\n");
+    const std::string cam = " --focal-length-mm 35 --sensor-width-mm 36 ";
+    auto r = run_gdof("--frames 1-3 " + quote(dir.file("in.####.exr")) + cam + "--lens-table " +
+                      quote(dir.file("lens.csv")) + " --diffuse -o " + quote(dir.file("out.####.exr")));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    char mid[64];
+    std::snprintf(mid, sizeof mid, "%.17g", 1.0 / ((0.5 + 0.25) / 2.0));
+    const std::pair<int, std::string> lens[] = {{1, "--focus-distance 2 --f-number 1"},
+                                                {2, std::string("--focus-distance ") + mid + " --f-number 1.5"},
+                                                {3, "--focus-distance 4 --f-number 2"}};
+    std::vector<float> first;
+    for (const auto& [f, flags] : lens) {
+        const std::string ref = dir.file("ref" + std::to_string(f) + ".exr");
+        auto one = run_gdof(quote(frame_name(dir, "in", f)) + cam + flags + " --diffuse -o " + quote(ref));
+        ASSERT_EQ(one.exit_code, 0) << one.output;
+        const std::vector<float> got = read_pixels(frame_name(dir, "out", f)), want = read_pixels(ref);
+        ASSERT_EQ(got.size(), want.size());
+        EXPECT_TRUE(got == want) << "frame " << f << ": " << flags;
+        if (f == 1) first = got;
+        else EXPECT_FALSE(got == first) << "frame " << f << " did not change the lens";
+    }
+    auto later = run_gdof("--frames 2 " + quote(dir.file("in.####.exr")) + cam + "--lens-table " +
+                          quote(dir.file("lens.csv")) + " --f-number 8 --diffuse -o " + quote(dir.file("f8.####.exr")));
+    ASSERT_EQ(later.exit_code, 0) << later.output;
+    auto f8 = run_gdof(quote(frame_name(dir, "in", 2)) + cam + "--focus-distance " + mid + " --f-number 8 --diffuse -o " +
+                       quote(dir.file("f8.exr")));
+    ASSERT_EQ(f8.exit_code, 0) << f8.output;
+    EXPECT_TRUE(read_pixels(frame_name(dir, "f8", 2)) == read_pixels(dir.file("f8.exr")));
+    // A bad cell stops the run before any frame, naming the line and column;
+    // without a sequence the table has no frame to read.
+    write_text(dir.file("bad.csv"), "frame,focus_distance\n1,2\n3,far\n");
+    auto bad = run_gdof("--frames 1-3 " + quote(dir.file("in.####.exr")) + cam + "--f-number 2 --lens-table " +
+                        quote(dir.file("bad.csv")) + " --diffuse -o " + quote(dir.file("bad.####.exr")));
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_TRUE(contains(bad.output, "line 3 column 'focus_distance'")) << bad.output;
+    EXPECT_FALSE(fs::exists(frame_name(dir, "bad", 1)));
+    auto single = run_gdof(quote(frame_name(dir, "in", 1)) + cam + "--lens-table " + quote(dir.file("lens.csv")) +
+                           " --diffuse -o " + quote(dir.file("s.exr")));
+    EXPECT_EQ(single.exit_code, 2);
+    EXPECT_TRUE(contains(single.output, "needs a sequence")) << single.output;
+    EXPECT_FALSE(fs::exists(dir.file("s.exr")));
+}

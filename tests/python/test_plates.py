@@ -84,3 +84,20 @@ def test_attach_depth_equals_cli_depth_file(cli, tmp_path):
     small = gdof.Image.from_array(depth[:, :10, :10].copy(), ["Y"])
     with pytest.raises(gdof.Error, match="10x10"):
         plate.attach_depth(small)
+
+
+def test_lens_at_frame_equals_cli_lens_table(cli, scene, tmp_path):
+    # A focus pull keyed at frames 1 and 3: frame 2's lens from Python's
+    # lens_at_frame, splatted into defocus(), equals the CLI's sequence frame.
+    flat, _ = scene
+    (tmp_path / "in.0002.exr").write_bytes(flat.read_bytes())
+    (tmp_path / "lens.csv").write_text("frame,focus_distance,f_number\n1,2,1.4\n3,6,2.8\n")
+    run_cli(cli, "--frames", "2", tmp_path / "in.####.exr", "--lens-table", tmp_path / "lens.csv", "--diffuse",
+            "-o", tmp_path / "cli.####.exr")
+    lens = gdof.lens_at_frame(str(tmp_path / "lens.csv"), 2)
+    assert lens == pytest.approx({"focus_distance": 3.0, "f_number": 2.1})
+    out = gdof.defocus(gdof.read_image(str(flat)), **lens)
+    gdof.write_image(str(tmp_path / "py.exr"), out)
+    assert images_equal(tmp_path / "cli.0002.exr", tmp_path / "py.exr")
+    with pytest.raises(gdof.Error, match="missing.csv"):
+        gdof.lens_at_frame(str(tmp_path / "missing.csv"), 2)

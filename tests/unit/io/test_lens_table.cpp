@@ -86,3 +86,42 @@ TEST(lens_table, ATableWithoutRowsIsNoErrorHere) {
 }
 
 }  // namespace
+
+TEST(lens_table, LensAtFrameInterpolatesFocusAsARingTurns) {
+    // Keys at frames 10 and 20 (given out of order); frame 15 lies halfway:
+    // focus 1 / ((1/2 + 1/8) / 2) = 3.2 (the ring's halfway, not 5 m), the
+    // f-number and focal length linearly; a keyed frame is its row exactly;
+    // before and after the keys the ends hold.
+    auto rows = io::read_lens_table("frame,focus_distance,f_number,focal_length_mm\n20,8,4,50\n10,2,2,35\n", "t",
+                                    LensTableKey::Frame);
+    ASSERT_TRUE(rows) << rows.message();
+    auto mid = io::lens_at_frame(*rows, 15, "t");
+    ASSERT_TRUE(mid) << mid.message();
+    EXPECT_DOUBLE_EQ(*mid->focus_distance, 3.2);
+    EXPECT_DOUBLE_EQ(*mid->f_number, 3.0);
+    EXPECT_DOUBLE_EQ(*mid->focal_length_mm, 42.5);
+    EXPECT_FALSE(mid->sensor_width_mm);
+    auto quarter = io::lens_at_frame(*rows, 12.5, "t");
+    ASSERT_TRUE(quarter);
+    EXPECT_DOUBLE_EQ(1.0 / *quarter->focus_distance, 0.75 * 0.5 + 0.25 * 0.125);
+    for (auto [frame, focus] : {std::pair{10.0, 2.0}, {20.0, 8.0}, {3.0, 2.0}, {99.0, 8.0}}) {
+        auto l = io::lens_at_frame(*rows, frame, "t");
+        ASSERT_TRUE(l);
+        EXPECT_EQ(*l->focus_distance, focus) << frame;
+    }
+    // Errors name the table and the lines.
+    auto twice = io::read_lens_table("frame,f_number\n1,2\n1,4\n", "t", LensTableKey::Frame);
+    ASSERT_TRUE(twice);
+    auto e = io::lens_at_frame(*twice, 1, "t");
+    ASSERT_FALSE(e);
+    EXPECT_NE(e.message().find("lines 2 and 3"), std::string::npos) << e.message();
+    auto stack = io::read_lens_table("frame,near,far\n1,2,inf\n", "t", LensTableKey::Frame);
+    ASSERT_TRUE(stack);
+    EXPECT_FALSE(io::lens_at_frame(*stack, 1, "t"));
+    auto zero = io::read_lens_table("frame,f_number\n1,0\n", "t", LensTableKey::Frame);
+    ASSERT_TRUE(zero);
+    auto z = io::lens_at_frame(*zero, 1, "t");
+    ASSERT_FALSE(z);
+    EXPECT_NE(z.message().find("line 2 column 'f_number'"), std::string::npos) << z.message();
+    EXPECT_FALSE(io::lens_at_frame({}, 1, "t"));
+}

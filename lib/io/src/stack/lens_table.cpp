@@ -107,4 +107,55 @@ Result<std::vector<LensTableRow>> read_lens_table(const std::string& text, const
     return rows;
 }
 
+Result<LensOverrides> lens_at_frame(const std::vector<LensTableRow>& rows, double frame, const std::string& source) {
+    if (rows.empty()) return Status::error(source + ": no rows", StatusCode::InvalidArgument);
+    for (const LensTableRow& r : rows) {
+        if (!r.frame)
+            return Status::error(source + " line " + std::to_string(r.line) + ": no frame", StatusCode::InvalidArgument);
+        for (const auto& [name, v] : r.values) {
+            if (name == "near" || name == "far")
+                return Status::error(source + ": column '" + name + "' is a focal stack's (a lens over frames has "
+                                              "focus_distance, f_number, focal_length_mm, sensor_width_mm)",
+                                     StatusCode::InvalidArgument);
+            if (!(v > 0.0))
+                return Status::error(source + " line " + std::to_string(r.line) + " column '" + name +
+                                         "': must be positive, got " + std::to_string(v),
+                                     StatusCode::InvalidArgument);
+        }
+    }
+    // Rows in frame order (the table's may be any).
+    std::vector<const LensTableRow*> by_frame;
+    for (const LensTableRow& r : rows) by_frame.push_back(&r);
+    std::stable_sort(by_frame.begin(), by_frame.end(), [](const LensTableRow* a, const LensTableRow* b) { return *a->frame < *b->frame; });
+    for (std::size_t i = 1; i < by_frame.size(); ++i)
+        if (*by_frame[i]->frame == *by_frame[i - 1]->frame)
+            return Status::error(source + " lines " + std::to_string(by_frame[i - 1]->line) + " and " +
+                                     std::to_string(by_frame[i]->line) + ": two rows of frame " +
+                                     std::to_string(*by_frame[i]->frame),
+                                 StatusCode::InvalidArgument);
+    // The rows at or around the frame: a and b, b's weight t.
+    std::size_t hi = 0;
+    while (hi < by_frame.size() && *by_frame[hi]->frame < frame) ++hi;
+    const LensTableRow& a = *by_frame[hi == 0 ? 0 : hi - 1];
+    const LensTableRow& b = *by_frame[hi == by_frame.size() ? hi - 1 : hi];
+    const double t = &a == &b ? 0.0 : (frame - *a.frame) / (*b.frame - *a.frame);
+    LensOverrides lens;
+    for (std::size_t c = 0; c < a.values.size(); ++c) {
+        const auto& [name, va] = a.values[c];
+        const double vb = b.values[c].second;  // every row has the header's columns, in its order
+        double v = t == 0.0 ? va : t == 1.0 ? vb : va + t * (vb - va);
+        if (name == "focus_distance") {
+            if (t != 0.0 && t != 1.0) v = 1.0 / (1.0 / va + t * (1.0 / vb - 1.0 / va));
+            lens.focus_distance = v;
+        } else if (name == "f_number") {
+            lens.f_number = v;
+        } else if (name == "focal_length_mm") {
+            lens.focal_length_mm = v;
+        } else if (name == "sensor_width_mm") {
+            lens.sensor_width_mm = v;
+        }
+    }
+    return lens;
+}
+
 }  // namespace gdof::io

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "gdof/camera.h"
 #include "gdof/export.h"
 #include "gdof/focal_stack.h"
 #include "gdof/status.h"
@@ -48,5 +49,16 @@ struct LensTableRow {
 };
 GDOF_API Result<std::vector<LensTableRow>> read_lens_table(const std::string& text, const std::string& source,
                                                            LensTableKey key = LensTableKey::FrameOrFile);
+
+// The lens of frame `frame` of a sequence from a lens table keyed by frame
+// (a focus pull, recorded on set or keyed by hand): the row of that frame,
+// else the values interpolated between the rows before and after it (the
+// focus distance linearly in 1 / distance, as a focus ring turns; the
+// others linearly), else the first or last row's. Columns focus_distance,
+// f_number, focal_length_mm, sensor_width_mm, each a positive number. Errors
+// begin with `source` and name the line: a table without rows, two rows of
+// one frame, a near or far column (a stack's), a value that is not positive.
+GDOF_API Result<LensOverrides> lens_at_frame(const std::vector<LensTableRow>& rows, double frame,
+                                             const std::string& source);
 
 }  // namespace gdof::io
