@@ -9,6 +9,7 @@
 #include "gdof/plate.h"
 
 #include "common/format_number.h"
+#include "plate/plate_internal.h"
 
 namespace gdof {
 
@@ -79,14 +80,12 @@ Result<FocusedCamera> focus_camera_at(const Metadata& metadata, const Roi& displ
     // A depth inside the focal length is no scene a lens can focus on: most
     // often an integer depth file read as 0..1 (as OFX hosts deliver clips
     // too) and decoded as metres. Said so here, not as a bad focus distance.
-    const LensInfo& li = cam->lens();
-    const double focal = li.focal_length_mm / li.scene_unit_mm;
+    const double focal = plate_detail::focal_length_scene_units(*cam);
     if (std::isfinite(focal) && picked->distance <= focal)
         return Status::error("focus at pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                                  "): the depth there decodes to " + format_number(picked->distance, 6) +
-                                 " scene units, within the focal length (" + format_number(focal, 6) +
-                                 "): check the depth's encoding and scale (8- and 16-bit files are read as 0..1, so "
-                                 "millimetres in a 16-bit file are scaled by 65.535)",
+                                 " scene units, within the focal length (" + format_number(focal, 6) + "): " +
+                                 plate_detail::kDepthScaleHint,
                              StatusCode::InvalidArgument, "depth_scale");
     return FocusedCamera{std::move(cam).value(), *picked};
 }

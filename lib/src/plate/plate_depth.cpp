@@ -40,13 +40,11 @@ constexpr float kInfF = std::numeric_limits<float>::infinity();
 // would otherwise defocus the whole frame at the largest blur, silently.
 // Unknown focal length (a camera from matrices alone): not checked.
 Status check_depth_beyond_focal_length(float nearest, float farthest, const std::string& channel, const Camera& camera) {
-    const LensInfo& li = camera.lens();
-    const double focal = li.focal_length_mm / li.scene_unit_mm;
+    const double focal = focal_length_scene_units(camera);
     if (!(focal > 0.0) || !std::isfinite(focal) || !(farthest >= nearest) || double(farthest) > focal) return Status::ok();
     return Status::error("plate depth: every depth of channel '" + channel + "' decodes within the camera's focal length (" +
                              format_number(nearest, 6) + " to " + format_number(farthest, 6) + " scene units; focal length " +
-                             format_number(focal, 6) + "), where no lens can focus: check the depth's encoding and scale "
-                             "(8- and 16-bit files are read as 0..1, so millimetres in a 16-bit file are scaled by 65.535)",
+                             format_number(focal, 6) + "), where no lens can focus: " + kDepthScaleHint,
                          StatusCode::InvalidArgument, "depth_scale");
 }
 

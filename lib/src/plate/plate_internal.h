@@ -83,4 +83,17 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
                                                double continuity, double mixed_step, const float* const rgb[3],
                                                std::size_t& recoloured);
 
+// The camera's focal length in scene units; NaN when it is unknown (a camera
+// from matrices alone). No depth within it can be focused on.
+inline double focal_length_scene_units(const Camera& camera) {
+    const LensInfo& li = camera.lens();
+    return li.focal_length_mm / li.scene_unit_mm;
+}
+
+// What a depth within the focal length almost always is, said by both checks
+// of it (the whole plate's, and the pixel --focus-at picks).
+inline constexpr const char* kDepthScaleHint =
+    "check the depth's encoding and scale (8- and 16-bit files are read as 0..1, so millimetres in a 16-bit file "
+    "are scaled by 65.535)";
+
 }  // namespace gdof::plate_detail

@@ -139,21 +139,19 @@ Result<LensOverrides> lens_at_frame(const std::vector<LensTableRow>& rows, doubl
     const LensTableRow& a = *by_frame[hi == 0 ? 0 : hi - 1];
     const LensTableRow& b = *by_frame[hi == by_frame.size() ? hi - 1 : hi];
     const double t = &a == &b ? 0.0 : (frame - *a.frame) / (*b.frame - *a.frame);
+    // A row's own values exactly; between rows linear, the focus in 1 / distance.
+    auto between = [t](double va, double vb, bool inverse) {
+        if (t == 0.0 || t == 1.0) return t == 0.0 ? va : vb;
+        return inverse ? 1.0 / (1.0 / va + t * (1.0 / vb - 1.0 / va)) : va + t * (vb - va);
+    };
     LensOverrides lens;
     for (std::size_t c = 0; c < a.values.size(); ++c) {
         const auto& [name, va] = a.values[c];
         const double vb = b.values[c].second;  // every row has the header's columns, in its order
-        double v = t == 0.0 ? va : t == 1.0 ? vb : va + t * (vb - va);
-        if (name == "focus_distance") {
-            if (t != 0.0 && t != 1.0) v = 1.0 / (1.0 / va + t * (1.0 / vb - 1.0 / va));
-            lens.focus_distance = v;
-        } else if (name == "f_number") {
-            lens.f_number = v;
-        } else if (name == "focal_length_mm") {
-            lens.focal_length_mm = v;
-        } else if (name == "sensor_width_mm") {
-            lens.sensor_width_mm = v;
-        }
+        if (name == "focus_distance") lens.focus_distance = between(va, vb, true);
+        else if (name == "f_number") lens.f_number = between(va, vb, false);
+        else if (name == "focal_length_mm") lens.focal_length_mm = between(va, vb, false);
+        else if (name == "sensor_width_mm") lens.sensor_width_mm = between(va, vb, false);
     }
     return lens;
 }
