@@ -119,6 +119,18 @@ run_step(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build" -G 
          -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release)
 run_step(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run_step("${WORK_DIR}/build/consumer" "${WORK_DIR}")
+# The OpenImageIO module is installed beside the libraries, and the
+# installed CLI loads that one (not the build tree's) for a PNG.
+file(GLOB_RECURSE oiio_modules "${prefix}/*/gdof_oiio.so")
+if(NOT oiio_modules)
+  message(FATAL_ERROR "gdof_oiio.so is not installed under ${prefix}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E env LD_DEBUG=files "${prefix}/bin/gdof" "${WORK_DIR}/consumer.exr"
+                        -o "${WORK_DIR}/cli.png" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+string(REGEX MATCH "file=[^ \t\n]*gdof_oiio\\.so" loaded_module "${err}")
+if(NOT rc EQUAL 0 OR NOT loaded_module MATCHES "^file=${prefix}/")
+  message(FATAL_ERROR "the installed CLI did not load the installed gdof_oiio.so (exit ${rc}): '${loaded_module}'")
+endif()
 if(MODE STREQUAL "shared")
   run_step(ldd "${WORK_DIR}/build/consumer")
   if(NOT step_output MATCHES "libgdof_io_images\\.so")

@@ -1,6 +1,7 @@
 # ctest driver: `cmake --install` the build into a scratch prefix, check the
 # bundle's layout there (gdof.ofx.bundle/Contents/Info.plist and
-# Contents/<arch>/gdof.ofx), then run the describe tests on the installed
+# Contents/<arch>/gdof.ofx beside gdof_oiio.so, gdof.ofx itself without
+# OpenImageIO), then run the describe tests on the installed
 # binary (GDOF_OFX_BUNDLE points the test host at it).
 file(REMOVE_RECURSE "${WORK_DIR}")
 execute_process(COMMAND ${CMAKE_COMMAND} --install "${GDOF_BINARY_DIR}" --prefix "${WORK_DIR}/prefix"
@@ -18,6 +19,15 @@ get_filename_component(arch_dir "${binaries}" DIRECTORY)
 get_filename_component(contents "${arch_dir}" DIRECTORY)
 if(NOT EXISTS "${contents}/Info.plist")
   message(FATAL_ERROR "no Info.plist in ${contents}")
+endif()
+# OpenImageIO comes only with the module beside gdof.ofx, loaded when a
+# stack reference needs it: a host loading the bundle does not load it.
+if(NOT EXISTS "${arch_dir}/gdof_oiio.so")
+  message(FATAL_ERROR "no gdof_oiio.so beside ${binaries}")
+endif()
+execute_process(COMMAND ldd "${binaries}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR out MATCHES "libOpenImageIO" OR out MATCHES "not found")
+  message(FATAL_ERROR "gdof.ofx must load without OpenImageIO (exit ${rc}):\n${out}\n${err}")
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -E env "GDOF_OFX_BUNDLE=${binaries}" "${DESCRIBE_TEST}"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)

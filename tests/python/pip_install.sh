@@ -35,6 +35,16 @@ t2=$SECONDS
 cd "$work"
 "$venv_python" -c "import gdof, sys; print('gdof', gdof.__version__, 'from', gdof.__file__); sys.exit(0 if '$work/venv' in gdof.__file__ else 1)"
 test -x "$work/venv/bin/gdof-submit"
+# The OpenImageIO module ships in the wheel beside _gdof, and a PNG loads
+# that one (not the build folder's).
+pkg="$("$venv_python" -c 'import gdof, os; print(os.path.dirname(gdof.__file__))')"
+test -f "$pkg/gdof_oiio.so"
+LD_DEBUG=files "$venv_python" -c "
+import gdof, numpy
+gdof.write_image('$work/grey.png', gdof.Image.from_array(numpy.full((3, 4, 8), 0.5, numpy.float32), ['R', 'G', 'B']))
+assert len(gdof.read_image('$work/grey.png')) == 1
+" 2> "$work/ld_debug.txt"
+grep -q "file=$pkg/gdof_oiio.so" "$work/ld_debug.txt"
 t3=$SECONDS
 "$venv_python" -m pytest -q -p no:cacheprovider --rootdir="$root/tests/python" "$root/tests/python"
 t4=$SECONDS

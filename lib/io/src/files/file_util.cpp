@@ -10,11 +10,15 @@ namespace gdof::io::detail {
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
+std::string lower(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
 std::string extension_lower(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
+    return lower(ext);
 }
 
 bool has_exr_magic(const std::string& path) {

@@ -16,6 +16,8 @@ namespace gdof::io::detail {
 // "'path'" for messages.
 GDOF_API std::string quoted(const std::string& path);
 
+// ASCII lower case (names compared in any case: channels, attributes).
+GDOF_API std::string lower(std::string text);
 // Lower-case extension without the dot ("exr"), "" if none.
 GDOF_API std::string extension_lower(const std::string& path);
 

@@ -1,14 +1,12 @@
-// StackReader (stack_reader.h): reference tiles through an OIIO ImageCache,
-// opened lazily, checked for size, linearised like read_image.
+// StackReader (stack_reader.h): reference tiles through the OIIO module's
+// ImageCache (oiio/oiio_io.h), opened lazily, checked for size, linearised
+// like read_image.
 #include "gdof/io/stack_reader.h"
 
 #include <OpenEXR/ImfInputFile.h>
-#include <OpenImageIO/imagecache.h>
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <filesystem>
 #include <mutex>
 #include <vector>
@@ -16,46 +14,22 @@
 #include "exr/exr_attributes.h"
 #include "colour/linearize.h"
 #include "files/files.h"
+#include "oiio/oiio_io.h"
 
 namespace gdof::io {
 
 namespace {
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 std::string size_str(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 // Simple header attributes of a non-EXR file (numbers and strings).
-void spec_to_metadata(const OIIO::ImageSpec& spec, Metadata& md) {
-    for (const auto& p : spec.extra_attribs) {
-        const std::string name = p.name().string();
-        if (name.rfind("oiio:", 0) == 0 || name == "compression") continue;
-        const OIIO::TypeDesc t = p.type();
-        if (t == OIIO::TypeString) md.set_string(name, p.get_string());
-        else if (t == OIIO::TypeFloat || t == OIIO::TypeDesc::DOUBLE) md.set_float(name, p.get_float());
-        else if (t == OIIO::TypeInt) md.set_int(name, p.get_int());
+void simple_attributes(const Metadata& all, Metadata& md) {
+    for (const Attribute& a : all.attributes()) {
+        if (a.name.rfind("oiio:", 0) == 0 || a.name == "compression") continue;
+        if (a.type == "string") md.set_string(a.name, a.text);
+        else if ((a.type == "float" || a.type == "double") && a.numbers.size() == 1) md.set_float(a.name, a.numbers[0]);
+        else if (a.type == "int" && a.numbers.size() == 1) md.set_int(a.name, (long long)a.numbers[0]);
     }
-}
-
-// One ImageCache for every StackReader of the process, created on first use
-// and never destroyed. Creating and destroying private caches while TBB
-// worker threads keep OIIO's per-thread cache records corrupts the heap
-// (seen with OIIO 2.4: a second reader after a first one was destroyed), so
-// readers share this one and release their files with invalidate().
-OIIO::ImageCache* stack_cache() {
-    static OIIO::ImageCache* cache = [] {
-        OIIO::ImageCache* c = OIIO::ImageCache::create(/*shared=*/false);
-        if (c) {
-            c->attribute("autoscanline", 1);
-            c->attribute("unassociatedalpha", 1);  // straight colour is linearised before premultiplying
-            c->attribute("max_open_files", 64);
-        }
-        return c;
-    }();
-    return cache;
 }
 
 }  // namespace
@@ -63,12 +37,12 @@ OIIO::ImageCache* stack_cache() {
 struct StackReader::Impl {
     FocalStack stack;
     StackReaderOptions opts;
-    OIIO::ImageCache* cache = nullptr;
+    const detail::OiioModuleApi* oiio = nullptr;
 
     struct Ref {
         bool opened = false;
         Status status;          // the open's result (kept: errors repeat)
-        OIIO::ustring name;
+        std::string name;       // the file, as the cache knows it
         Roi dw;                 // file data window
         int ch[4] = {-1, -1, -1, -1};
         int chbegin = 0, chend = 0;
@@ -108,40 +82,38 @@ struct StackReader::Impl {
         const std::string& path = stack.references[std::size_t(i)].path;
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) return r.status = Status::error(where(i) + ": file not found");
-        r.name = OIIO::ustring(path);
-        const OIIO::ImageSpec* spec = cache->imagespec(r.name);
-        if (!spec) {
-            std::string e = cache->geterror();
-            return r.status = Status::error(where(i) + ": cannot read: " + (e.empty() ? "unknown error" : e));
-        }
+        r.name = path;
+        const Result<detail::OiioHeader> header = oiio->cache_header(r.name);
+        if (!header) return r.status = Status::error(where(i) + ": cannot read: " + header.status().message());
+        const detail::OiioHeader* spec = &header.value();
         if (spec->deep) return r.status = Status::error(where(i) + ": is a deep image; a stack reference must be flat");
-        r.dw = {spec->x, spec->y, spec->x + spec->width, spec->y + spec->height};
+        r.dw = spec->data;
         // Size against the stack.
         if (width == 0) {
-            width = spec->width;
-            height = spec->height;
+            width = r.dw.width();
+            height = r.dw.height();
         }
-        if (spec->width != width || spec->height != height) {
+        if (r.dw.width() != width || r.dw.height() != height) {
             const std::string against = first_ref >= 0 ? "reference '" + stack.references[std::size_t(first_ref)].path + "'"
                                                         : std::string("the manifest's width/height");
-            return r.status = Status::error(where(i) + " is " + size_str(spec->width, spec->height) + " but " + against +
+            return r.status = Status::error(where(i) + " is " + size_str(r.dw.width(), r.dw.height()) + " but " + against +
                                             " is " + size_str(width, height) + " (all references must have one resolution)");
         }
         if (!have_origin) {
             have_origin = true;
-            ox = spec->x;
-            oy = spec->y;
-        } else if (spec->x != ox || spec->y != oy) {
-            return r.status = Status::error(where(i) + ": data window origin (" + std::to_string(spec->x) + ", " +
-                                            std::to_string(spec->y) + ") differs from the other references' (" +
+            ox = r.dw.x0;
+            oy = r.dw.y0;
+        } else if (r.dw.x0 != ox || r.dw.y0 != oy) {
+            return r.status = Status::error(where(i) + ": data window origin (" + std::to_string(r.dw.x0) + ", " +
+                                            std::to_string(r.dw.y0) + ") differs from the other references' (" +
                                             std::to_string(ox) + ", " + std::to_string(oy) + ")");
         }
         if (first_ref < 0) first_ref = i;
         // Channels.
-        const int n = spec->nchannels;
+        const int n = int(spec->channels.size());
         auto find = [&](std::initializer_list<const char*> names) {
             for (int c = 0; c < n; ++c) {
-                const std::string cn = lower(spec->channelnames[std::size_t(c)]);
+                const std::string cn = detail::lower(spec->channels[std::size_t(c)]);
                 for (const char* want : names)
                     if (cn == want) return c;
             }
@@ -172,16 +144,16 @@ struct StackReader::Impl {
             const ColourConfig& config = detail::config_or_default(opts.colour);
             std::string space = opts.colorspace;
             if (space.empty() && !r.exr) {
-                const std::string cs = spec->get_string_attribute("oiio:ColorSpace");
+                const std::string& cs = spec->colorspace;
                 if (!cs.empty() && !config.resolve(cs).empty()) space = cs;
-                else space = spec->format.is_floating_point() ? "linear" : "sRGB";
+                else space = spec->floating_point ? "linear" : "sRGB";
             }
             if (!space.empty()) {
                 if (config.resolve(space).empty())
                     return r.status = Status::error(where(i) + ": unknown colour space '" + space + "'");
                 if (!config.is_linear(space)) r.space = space;
             }
-            r.straight_alpha = !r.exr && r.ch[3] >= 0 && spec->get_int_attribute("oiio:UnassociatedAlpha", 0) != 0;
+            r.straight_alpha = !r.exr && r.ch[3] >= 0 && spec->unassociated_alpha;
         }
         return r.status = Status::ok();
     }
@@ -197,28 +169,29 @@ Result<std::unique_ptr<StackReader>> StackReader::create(const FocalStack& stack
     m.refs.resize(stack.references.size());
     m.width = stack.width > 0 && stack.height > 0 ? stack.width : 0;
     m.height = stack.width > 0 && stack.height > 0 ? stack.height : 0;
-    m.cache = stack_cache();
-    if (!m.cache) return Status::error("cannot create an OpenImageIO image cache");
+    const auto oiio = detail::oiio_module();
+    if (!oiio) {
+        Status s = oiio.status();
+        return s.prefix("reading the stack's references");
+    }
+    m.oiio = *oiio;
     // Process-wide settings: the last reader created sets them.
-    m.cache->attribute("max_memory_MB", float(std::max(16.0, opts.cache_memory_mb)));
-    m.cache->attribute("autotile", std::max(8, opts.cache_tile));
-    m.cache->getattribute("stat:unique_files", m.unique_files_at_start);
+    m.oiio->cache_configure(std::max(16.0, opts.cache_memory_mb), std::max(8, opts.cache_tile));
+    m.unique_files_at_start = m.oiio->cache_files_opened();
     return r;
 }
 
 StackReader::~StackReader() {
-    if (!impl_ || !impl_->cache) return;
+    if (!impl_ || !impl_->oiio) return;
     // Release this reader's tiles and file handles from the shared cache.
     for (const Impl::Ref& r : impl_->refs)
-        if (r.opened && !r.name.empty()) impl_->cache->invalidate(r.name, true);
+        if (r.opened && !r.name.empty()) impl_->oiio->cache_release(r.name);
 }
 
 int StackReader::size() const { return int(impl_->refs.size()); }
 int StackReader::files_opened() const { return impl_->opened.load(); }
 int StackReader::cache_files_opened() const {
-    int n = 0;
-    impl_->cache->getattribute("stat:unique_files", n);
-    return n - impl_->unique_files_at_start;
+    return impl_->oiio->cache_files_opened() - impl_->unique_files_at_start;
 }
 
 Result<ReferenceInfo> StackReader::info(int i) {
@@ -226,11 +199,11 @@ Result<ReferenceInfo> StackReader::info(int i) {
     const Result<Impl::Ref> opened = m.opened_ref(i);
     if (!opened) return opened.status();
     const Impl::Ref& r = *opened;
-    const OIIO::ImageSpec* spec = m.cache->imagespec(r.name);
-    if (!spec) return Status::error(m.where(i) + ": cannot read: " + m.cache->geterror());
+    const Result<detail::OiioHeader> spec = m.oiio->cache_header(r.name);
+    if (!spec) return Status::error(m.where(i) + ": cannot read: " + spec.status().message());
     ReferenceInfo info;
     info.data_window = r.dw;
-    info.display_window = {spec->full_x, spec->full_y, spec->full_x + spec->full_width, spec->full_y + spec->full_height};
+    info.display_window = spec->display;
     if (r.exr) {
         try {
             Imf::InputFile file(m.stack.references[std::size_t(i)].path.c_str());
@@ -239,7 +212,7 @@ Result<ReferenceInfo> StackReader::info(int i) {
             return Status::error(m.where(i) + ": reading the header: " + e.what());
         }
     } else {
-        spec_to_metadata(*spec, info.metadata);
+        simple_attributes(spec->attributes, info.metadata);
     }
     return info;
 }
@@ -256,12 +229,9 @@ Status StackReader::read_tile(int i, const Roi& tile, float* rgba) {
     const std::size_t np = tile.npixels();
     thread_local std::vector<float> buf;
     buf.resize(np * std::size_t(nch));
-    if (!m.cache->get_pixels(r.name, 0, 0, r.dw.x0 + tile.x0, r.dw.x0 + tile.x1, r.dw.y0 + tile.y0, r.dw.y0 + tile.y1, 0,
-                             1, r.chbegin, r.chend, OIIO::TypeFloat, buf.data(), OIIO::AutoStride, OIIO::AutoStride,
-                             OIIO::AutoStride, r.chbegin, r.chend)) {
-        std::string e = m.cache->geterror();
-        return Status::error(m.where(i) + ": reading pixels " + to_string(tile) + ": " + (e.empty() ? "failed" : e));
-    }
+    const Roi pixels{r.dw.x0 + tile.x0, r.dw.y0 + tile.y0, r.dw.x0 + tile.x1, r.dw.y0 + tile.y1};
+    if (Status st = m.oiio->cache_read(r.name, pixels, r.chbegin, r.chend, buf.data()); !st)
+        return Status::error(m.where(i) + ": reading pixels " + to_string(tile) + ": " + st.message());
     for (std::size_t p = 0; p < np; ++p) {
         const float* src = &buf[p * std::size_t(nch)];
         float* dst = rgba + p * 4;
@@ -298,18 +268,15 @@ Status check_stack_files(const FocalStack& stack) {
         if (std::filesystem::is_directory(r.path, ec)) return Status::error(where + "): is a folder");
         // The header only: a reference of another size would otherwise be
         // found only if a pixel picks it.
-        auto in = OIIO::ImageInput::open(r.path);
-        if (!in) {
-            const std::string e = OIIO::geterror();
-            return Status::error(where + "): cannot read: " + (e.empty() ? "unknown error" : e));
-        }
-        const OIIO::ImageSpec& spec = in->spec();
+        const Result<detail::OiioHeader> spec = detail::read_oiio_header(r.path);
+        if (!spec) return Status::error(where + "): cannot read: " + spec.status().message());
+        const int w = spec->data.width(), h = spec->data.height();
         if (width <= 0 || height <= 0) {
-            width = spec.width;
-            height = spec.height;
+            width = w;
+            height = h;
             against = "reference '" + r.path + "'";
-        } else if (spec.width != width || spec.height != height) {
-            return Status::error(where + ") is " + size_str(spec.width, spec.height) + " but " + against + " is " +
+        } else if (w != width || h != height) {
+            return Status::error(where + ") is " + size_str(w, h) + " but " + against + " is " +
                                  size_str(width, height) + " (all references must have one resolution)");
         }
     }

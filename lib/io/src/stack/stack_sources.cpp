@@ -1,7 +1,5 @@
 #include "gdof/io/stack_sources.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -10,6 +8,8 @@
 #include "gdof/io/sequence.h"
 #include "gdof/text_file.h"
 #include "common/json_read.h"
+#include "files/files.h"
+#include "oiio/oiio_io.h"
 
 namespace gdof::io {
 
@@ -26,21 +26,21 @@ struct Header {
 };
 
 Result<Header> read_header(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        std::string err = OIIO::geterror();
-        return Status::error("'" + path + "': cannot read the header" + (err.empty() ? "" : " (" + err + ")"));
-    }
-    const OIIO::ImageSpec& spec = in->spec();
+    const Result<detail::OiioHeader> spec = detail::read_oiio_header(path);
+    if (!spec) return Status::error("'" + path + "': cannot read the header (" + spec.status().message() + ")");
     Header h;
-    h.width = spec.full_width > 0 ? spec.full_width : spec.width;
-    h.height = spec.full_height > 0 ? spec.full_height : spec.height;
+    h.width = spec->display.width() > 0 ? spec->display.width() : spec->data.width();
+    h.height = spec->display.height() > 0 ? spec->display.height() : spec->data.height();
+    // The first attribute of that name in any case (as OIIO's find_attribute
+    // looks), when it is one float, int or double.
     auto get = [&](const char* name) -> std::optional<double> {
-        const OIIO::ParamValue* p = spec.find_attribute(name);
-        if (!p) return std::nullopt;
-        if (p->type() == OIIO::TypeDesc::FLOAT) return double(p->get_float());
-        if (p->type() == OIIO::TypeDesc::INT) return double(p->get_int());
-        if (p->type().basetype == OIIO::TypeDesc::DOUBLE && p->type().aggregate == 1) return p->get<double>();
+        const std::string want = detail::lower(name);
+        for (const Attribute& a : spec->attributes.attributes()) {
+            if (detail::lower(a.name) != want) continue;
+            if (a.numbers.size() != 1 || (a.type != "float" && a.type != "int" && a.type != "double"))
+                return std::nullopt;
+            return a.numbers[0];
+        }
         return std::nullopt;
     };
     h.focus_distance = get("focusDistance");
@@ -50,7 +50,6 @@ Result<Header> read_header(const std::string& path) {
     if (!h.f_number) h.f_number = get("FNumber");  // OIIO's name for EXR "aperture"
     h.focal_length_mm = get("focalLength");
     h.sensor_width_mm = get("sensorWidth");
-    in->close();
     return h;
 }
 

@@ -1,4 +1,5 @@
-// Reading and writing image files (gdof::io, via OpenImageIO / OpenEXR).
+// Reading and writing image files (gdof::io, via OpenEXR / OpenImageIO; the
+// latter is loaded on the first file in another format: lib/io/src/oiio).
 //
 // - EXR: single-part flat (multilayer "layer.channel" names kept as they are),
 //   multipart (one ImageSet part per file part, part names and views kept),

@@ -1,5 +1,6 @@
 // Reference pixels of a focus/aperture stack read from files, tile by tile,
-// through an OpenImageIO ImageCache (gdof::StackPixels for method 2).
+// through an OpenImageIO ImageCache (gdof::StackPixels for method 2;
+// OpenImageIO is loaded when the first reader is made: lib/io/src/oiio).
 //
 // - A file is opened only when one of its tiles (or its info) is first asked
 //   for, so references that no pixel selects are never opened;

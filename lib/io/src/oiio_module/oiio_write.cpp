@@ -8,11 +8,13 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
-#include "oiio/oiio_io.h"
+#include "oiio_module/oiio_module.h"
 #include "files/files.h"
 #include "colour/linearize.h"
 
-namespace gdof::io::detail {
+namespace gdof::io::oiio_module {
+
+using namespace detail;
 
 namespace {
 
@@ -206,7 +208,7 @@ Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO:
         std::string(out.format_name()) != "tiff" && out.supports("ioproxy") && out.set_ioproxy(&memory);
     if (!out.open(file, spec)) {
         std::string e = out.geterror();
-        clear_oiio_error();
+        clear_error();
         return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
     }
     bool ok = false;
@@ -222,7 +224,7 @@ Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO:
     }
     ok = out.close() && ok;
     std::string e = out.geterror();
-    clear_oiio_error();
+    clear_error();
     if (!ok) return Status::error(quoted(display) + ": cannot write (OpenImageIO: " + e + ")");
     if (in_memory) return write_file(file, display, memory.buffer().data(), memory.buffer().size());
     return Status::ok();
@@ -230,8 +232,8 @@ Status write_pixels(OIIO::ImageOutput& out, const std::string& file, const OIIO:
 
 }  // namespace
 
-Status write_oiio(const std::string& file, const std::string& display, const Image& image, const WriteOptions& opts) {
-    clear_oiio_error();
+Status write(const std::string& file, const std::string& display, const Image& image, const WriteOptions& opts) {
+    clear_error();
     auto out = OIIO::ImageOutput::create(file);
     if (!out) {
         std::string e = OIIO::geterror();
@@ -258,4 +260,4 @@ Status write_oiio(const std::string& file, const std::string& display, const Ima
     return write_pixels(*out, file, spec, work.value(), display);
 }
 
-}  // namespace gdof::io::detail
+}  // namespace gdof::io::oiio_module

@@ -8,10 +8,12 @@
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
-#include "oiio/oiio_io.h"
+#include "oiio_module/oiio_module.h"
 #include "files/files.h"
 
-namespace gdof::io::detail {
+namespace gdof::io::oiio_module {
+
+using detail::quoted;
 
 namespace {
 
@@ -42,9 +44,9 @@ double element(const OIIO::ParamValue& p, OIIO::TypeDesc::BASETYPE bt, std::size
 
 }  // namespace
 
-void clear_oiio_error() { (void)OIIO::geterror(); }
+void clear_error() { (void)OIIO::geterror(); }
 
-static void oiio_spec_to_metadata(const OIIO::ImageSpec& spec, Metadata& md) {
+void spec_to_metadata(const OIIO::ImageSpec& spec, Metadata& md) {
     for (const auto& p : spec.extra_attribs) {
         std::string name = p.name().string();
         if (skipped_oiio_attribute(name)) continue;
@@ -69,8 +71,8 @@ static void oiio_spec_to_metadata(const OIIO::ImageSpec& spec, Metadata& md) {
     }
 }
 
-Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& info) {
-    clear_oiio_error();
+Result<ImageSet> read(const std::string& path, std::vector<OiioPartInfo>& info) {
+    clear_error();
     std::error_code ec;
     const std::uint64_t file_size = std::filesystem::file_size(path, ec);
     OIIO::ImageSpec config;
@@ -111,7 +113,7 @@ Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& i
             std::vector<float> buf(data.npixels() * std::size_t(nch));
             if (!in->read_image(s, 0, 0, nch, OIIO::TypeFloat, buf.data())) {
                 std::string e = in->geterror();
-                clear_oiio_error();
+                clear_error();
                 return Status::error(quoted(path) + ": file is truncated or corrupt (OpenImageIO: " + e + ")");
             }
             const std::size_t np = data.npixels();
@@ -120,7 +122,7 @@ Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& i
                 const float* src = buf.data() + c;
                 for (std::size_t i = 0; i < np; ++i) dst[i] = src[i * std::size_t(nch)];
             }
-            oiio_spec_to_metadata(spec, img.metadata);
+            spec_to_metadata(spec, img.metadata);
             OiioPartInfo pi;
             pi.integer_data = !spec.format.is_floating_point();
             pi.alpha_channel = spec.alpha_channel;
@@ -135,16 +137,16 @@ Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& i
             set.parts.push_back(std::move(img));
         }
     } catch (const std::bad_alloc&) {
-        clear_oiio_error();
+        clear_error();
         return Status::error(quoted(path) + ": out of memory while reading");
     } catch (const std::exception& e) {
-        clear_oiio_error();
+        clear_error();
         return Status::error(quoted(path) + ": cannot read (" + std::string(e.what()) + ")");
     }
     in->close();
-    clear_oiio_error();
+    clear_error();
     if (set.parts.empty()) return Status::error(quoted(path) + ": file holds no image");
     return set;
 }
 
-}  // namespace gdof::io::detail
+}  // namespace gdof::io::oiio_module
