@@ -55,3 +55,26 @@ def test_missing_file(tmp_path):
     with pytest.raises(gdof.Error) as e:
         gdof.read_image(str(tmp_path / "none.exr"))
     assert "none.exr" in str(e.value)
+
+
+def test_a_missing_openimageio_module_is_the_cli_message(cli, tmp_path):
+    # The module loads once per process, so each side runs in its own.
+    import os
+    import subprocess
+    import sys
+    png = tmp_path / "in.png"
+    gdof.write_image(str(png), gdof.Image(["R", "G", "B"], (0, 0, 8, 4)))
+    env = dict(os.environ, GDOF_OIIO_MODULE=str(tmp_path / "nowhere.so"))
+    printed = subprocess.run([cli, str(png), "-o", str(tmp_path / "x.exr")], env=env, capture_output=True, text=True)
+    assert printed.returncode == 1
+    code = "import gdof\ntry:\n    gdof.read_image(%r)\nexcept gdof.Error as e:\n    print(e.code, e)\n" % str(png)
+    raised = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert raised.returncode == 0, raised.stderr
+    code_name, message = raised.stdout.strip().split(" ", 1)
+    assert printed.stderr.strip().endswith(message), (printed.stderr, message)
+    assert "gdof_oiio.so" in message and "nowhere.so' (GDOF_OIIO_MODULE): not found" in message
+    assert not (tmp_path / "x.exr").exists()
+    # EXR needs no module.
+    exr = subprocess.run([sys.executable, "-c", "import gdof; gdof.write_image(%r, gdof.Image(['R'], (0, 0, 2, 2)))"
+                          % str(tmp_path / "y.exr")], env=env, capture_output=True, text=True)
+    assert exr.returncode == 0, exr.stderr

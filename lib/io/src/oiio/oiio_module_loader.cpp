@@ -18,6 +18,7 @@
 #include <filesystem>
 
 #include "oiio/oiio_io.h"
+#include "colour/linearize.h"
 #include "files/files.h"
 
 namespace gdof::io::detail {
@@ -132,7 +133,12 @@ Result<ImageSet> read_oiio(const std::string& path, std::vector<OiioPartInfo>& i
 Status write_oiio(const std::string& file, const std::string& display, const Image& image, const WriteOptions& opts) {
     const auto m = oiio_module();
     if (!m) return unavailable(m, display);
-    return (*m)->write(file, display, image, opts);
+    if (opts.colour) return (*m)->write(file, display, image, opts);
+    // This process's default colour config, not one the module (linking
+    // its own copy of io_colour in a static build) would load again.
+    WriteOptions with_config = opts;
+    with_config.colour = &config_or_default(nullptr);
+    return (*m)->write(file, display, image, with_config);
 }
 
 Result<OiioHeader> read_oiio_header(const std::string& path) {
