@@ -15,6 +15,7 @@
 #include "gdof/compositing.h"
 #include "gdof/defocus.h"
 #include "gdof/exec.h"
+#include "gdof/focus_sweep.h"
 #include "gdof/image_set.h"
 #include "gdof/io/colour.h"
 #include "gdof/io/io_options.h"
@@ -72,6 +73,12 @@ struct PendingLightField {
     std::string stack_spec;  // --stack (when not after --render)
 };
 
+// --depth-from-focus's modifiers (ops/focus_sweep.cpp).
+struct PendingSweep {
+    std::string aligned_stack;  // --aligned-stack PATTERN ("" none): the aligned frames + manifest.json
+    DepthFromFocusOptions options;
+};
+
 struct Frame {
     Session* session = nullptr;
     std::optional<int> frame;  // frame number when running a sequence
@@ -99,6 +106,7 @@ struct Frame {
     PendingRender render;
     PendingComposite composite;
     PendingLightField lightfield;
+    PendingSweep sweep;
 
     Frame(Session& s, std::optional<int> frame_number);
     StackEntry& top(const std::string& flag);

@@ -16,7 +16,7 @@ const std::vector<Command>& command_table() {
         std::vector<Command> t;
         for (auto rows : {general_commands, sequence_commands, colour_commands, io_commands, channel_commands,
                           render_commands, blur_commands, depth_source_commands, lens_commands, diffuse_commands, aperture_commands, plate_commands,
-                          composite_commands, lightfield_commands})
+                          composite_commands, lightfield_commands, focus_sweep_commands})
             for (Command& c : rows()) t.push_back(std::move(c));
         return t;
     }();

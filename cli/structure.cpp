@@ -51,6 +51,7 @@ void validate_structure(const Program& p) {
     std::string pending_diffuse;  // a --diffuse modifier not yet followed by --diffuse
     std::string pending_layers;   // --layers not yet followed by --diffuse, --bokeh or --vibrate
     std::string pending_vibrate;  // --psf-field / --psf-samples not yet followed by --vibrate
+    std::string pending_sweep;    // --aligned-stack / --dff-* not yet followed by --depth-from-focus
     bool any_work = false;
     bool any_result = false;  // an -o, or a command that prints its result
     bool composite = false;
@@ -84,6 +85,8 @@ void validate_structure(const Program& p) {
         if (n == "--diffuse" || n == "--bokeh" || n == "--vibrate") pending_layers.clear();
         if (n == "--psf-field" || n == "--psf-samples") pending_vibrate = s.flag;
         if (n == "--vibrate") pending_vibrate.clear();
+        if (n == "--aligned-stack" || n == "--dff-window-radius" || n == "--dff-min-peak-ratio") pending_sweep = s.flag;
+        if (n == "--depth-from-focus") pending_sweep.clear();
     }
     if (!composite_option.empty() && !composite)
         usage_error(composite_option + ": only used with --composite (none given)");
@@ -94,6 +97,8 @@ void validate_structure(const Program& p) {
         usage_error(pending_layers + ": no --diffuse or --bokeh follows it (modifiers apply to the commands after them)");
     if (!pending_vibrate.empty())
         usage_error(pending_vibrate + ": no --vibrate follows it (modifiers apply to the commands after them)");
+    if (!pending_sweep.empty())
+        usage_error(pending_sweep + ": no --depth-from-focus follows it (modifiers apply to the commands after them)");
     if (!any_work) usage_error("nothing to do: give an input file or a command");
     if (!any_result) usage_error("no output: give -o FILE (or --info / --probe, which print their result)");
 }

@@ -63,4 +63,7 @@ if [[ -f "$tum/color.png" && -f "$tum/depth.png" ]]; then
 else
   echo "skipping the live-action pictures: no $tum" >&2
 fi
+# Method 2 on a photographed focus sweep (the real keyboard sweep when
+# ../shared/data is there, else a rendered focus stack): docs/images/focus_sweep.png.
+GDOF_BUILD_DIR="$build" GDOF_OUT="$tmp" bash "$root/examples/focus_sweep/run.sh"
 echo "wrote $(ls "$img")" >&2

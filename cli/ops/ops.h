@@ -45,6 +45,7 @@ Aperture with_kernel_image(Frame& f, Aperture a, const std::string& context);
 std::vector<Command> plate_commands();
 std::vector<Command> composite_commands();
 std::vector<Command> lightfield_commands();
+std::vector<Command> focus_sweep_commands();
 
 // lets_wait of the options of a pending --render (which also keep a
 // pending --composite waiting, as the render runs first).

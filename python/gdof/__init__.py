@@ -6,7 +6,8 @@ The C++ library's calls with numpy arrays: images and deep images
 cameras, and the methods: gdof.defocus (method 3: diffusion or bokeh; method
 4, filter="vibrate", with a gdof.PsfField),
 gdof.composite (method 2), gdof.render (method 1), gdof.extract_stack
-(light fields). Errors are gdof.Error with the library's message; the GIL
+(light fields), gdof.align_sweep and gdof.depth_from_focus (photographed
+focus sweeps). Errors are gdof.Error with the library's message; the GIL
 is released while the library works; progress= takes a callable; Ctrl-C
 stops the work and raises KeyboardInterrupt. docs/python.md has the guide.
 
@@ -22,6 +23,7 @@ from ._gdof import (  # noqa: F401
     DefocusStats,
     DepthCleanupOptions,
     DepthDecode,
+    DepthFromFocusStats,
     DiffusionOptions,
     Error,
     Image,
@@ -33,11 +35,15 @@ from ._gdof import (  # noqa: F401
     PositionSource,
     PsfField,
     Roi,
+    Similarity,
+    SweepAlignment,
     ThinLens,
     VibrateOptions,
     VibrateStats,
     __version__,
+    align_sweep,
     composite,
+    depth_from_focus,
     defocus,
     extract_stack,
     lens_at_frame,
@@ -50,7 +56,7 @@ from ._gdof import (  # noqa: F401
 
 __all__ = [
     "Aperture", "BlurField", "Camera", "DeepImage", "DefocusOptions", "DefocusStats", "DepthCleanupOptions",
-    "DepthDecode", "DiffusionOptions", "Error", "Image", "ImageSet", "LayerSplit", "LensInfo", "Metadata",
-    "PixelProbe", "PositionSource", "PsfField", "Roi", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "composite", "defocus", "extract_stack", "lens_at_frame", "probe",
+    "DepthDecode", "DepthFromFocusStats", "DiffusionOptions", "Error", "Image", "ImageSet", "LayerSplit", "LensInfo", "Metadata",
+    "PixelProbe", "PositionSource", "PsfField", "Roi", "Similarity", "SweepAlignment", "ThinLens", "VibrateOptions", "VibrateStats", "__version__", "align_sweep", "composite", "defocus", "depth_from_focus", "extract_stack", "lens_at_frame", "probe",
     "read_image", "render", "resolve_camera", "write_image",
 ]

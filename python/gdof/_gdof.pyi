@@ -2,7 +2,7 @@
 gdof: generalized depth of field (the C++ library's bindings; import gdof)
 """
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import Annotated, overload
 
 import numpy
@@ -949,4 +949,94 @@ def render(scene: str, blurfield: BlurField | None = None, *, spp: int = 64, min
 def extract_stack(views: str, stack: object, lf: object | None = None, *, progress: object | None = None, threads: int = 0) -> tuple:
     """
     A focus/aperture stack from light-field views ('views/%02d_%02d.png' or a Stanford-archive folder): stack and lf are the CLI's --stack and --lf JSON (paths, or dicts). Returns (images, manifest JSON text; its file names are empty: write the images and set them).
+    """
+
+class Similarity:
+    """
+    A frame-to-frame map: x' = a x - b y + tx, y' = b x + a y + ty (positions from the data window's corner, pixel centres at +0.5)
+    """
+
+    def __init__(self) -> None: ...
+
+    @property
+    def a(self) -> float: ...
+
+    @a.setter
+    def a(self, arg: float, /) -> None: ...
+
+    @property
+    def b(self) -> float: ...
+
+    @b.setter
+    def b(self, arg: float, /) -> None: ...
+
+    @property
+    def tx(self) -> float: ...
+
+    @tx.setter
+    def tx(self, arg: float, /) -> None: ...
+
+    @property
+    def ty(self) -> float: ...
+
+    @ty.setter
+    def ty(self, arg: float, /) -> None: ...
+
+    @property
+    def scale(self) -> float: ...
+
+    @property
+    def rotation_degrees(self) -> float: ...
+
+    def apply(self, x: float, y: float) -> tuple: ...
+
+    def __repr__(self) -> str: ...
+
+class SweepAlignment:
+    """What align_sweep() found (focus_sweep.h)"""
+
+    @property
+    def reference(self) -> int:
+        """the frame the others are aligned to (from 0)"""
+
+    @property
+    def maps(self) -> list[Similarity]:
+        """per frame: reference pixel -> that frame's pixel"""
+
+    @property
+    def residual_before(self) -> list[float]: ...
+
+    @property
+    def residual_after(self) -> list[float]: ...
+
+    @property
+    def common(self) -> Roi:
+        """the pixels every frame sees"""
+
+    def report(self) -> str: ...
+
+    def __repr__(self) -> str: ...
+
+class DepthFromFocusStats:
+    @property
+    def pixels(self) -> int: ...
+
+    @property
+    def holes(self) -> int: ...
+
+    @property
+    def outliers(self) -> int: ...
+
+    def report(self) -> str: ...
+
+    def __repr__(self) -> str: ...
+
+def align_sweep(frames: Sequence[Image], *, progress: object | None = None, threads: int = 0) -> tuple:
+    """
+    Aligns a focus sweep's frames (a list of gdof.Image, one size) to the middle one: a similarity per frame, chained from neighbour to neighbour. Returns (aligned frames, SweepAlignment).
+    """
+
+def depth_from_focus(frames: Sequence[Image], focus_distances: Sequence[float] | None = None, *, align: bool = True, window_radius: int = 4, min_peak_ratio: float = 3.0, progress: object | None = None, threads: int = 0) -> tuple:
+    """
+    Depth from focus (the CLI's --depth-from-focus): frames in sweep order, aligned first unless align=False, and their focus distances (else the frame index from 1 is the depth). Returns (plate, DepthFromFocusStats): the all-in-focus R, G, B, A with Z, focus.index and focus.confidence.
     """

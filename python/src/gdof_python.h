@@ -64,5 +64,6 @@ void register_defocus(nb::module_& m);
 void register_composite(nb::module_& m);
 void register_render(nb::module_& m);
 void register_lightfield(nb::module_& m);
+void register_focus_sweep(nb::module_& m);
 
 }  // namespace gdof::python

@@ -16,4 +16,5 @@ NB_MODULE(_gdof, m) {
     register_composite(m);
     register_render(m);
     register_lightfield(m);
+    register_focus_sweep(m);
 }

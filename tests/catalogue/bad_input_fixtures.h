@@ -69,6 +69,12 @@ private:
     static void plain(const std::string& path, int w, int h, std::vector<std::string> channels = {"R", "G", "B", "A", "Z"}) {
         write_exr(path, w, h, channels, [](int x, int y, int c) { return c == 4 ? 2.0f + float(x) * 0.1f : 0.5f; });
     }
+    static float sweep_texture(int x, int y, int c) { return 0.3f + 0.1f * float((x * 7 + y * 3 + c) % 5); }
+    static void sweep_frames(const std::string& dir, int n) {
+        fs::create_directories(dir);
+        for (int k = 1; k <= n; ++k)
+            write_exr(dir + "/f.000" + std::to_string(k) + ".exr", 24, 16, {"R", "G", "B"}, sweep_texture);
+    }
     // Overwrites the four int32 of a box2i attribute (dataWindow/displayWindow) in an EXR header.
     static void patch_box(std::string& bytes, const std::string& attribute, int x0, int y0, int x1, int y1) {
         const std::string key = attribute + std::string(1, '\0') + "box2i" + std::string(1, '\0');
@@ -180,6 +186,30 @@ inline const std::map<std::string, Fixtures::Maker>& Fixtures::table() {
              for (int r = 0; r < 2; ++r)
                  for (int c = 0; c < 2; ++c)
                      if (r + c != 1) plain(p + "/v_0" + std::to_string(r) + "_0" + std::to_string(c) + ".exr", 12, 8, {"R", "G", "B"});
+         }},
+        // ---- focus sweeps: folders of frames f.0001.exr ... (24x16, textured)
+        {"sweep", [](Fixtures&, const std::string& p) { sweep_frames(p, 3); }},
+        {"sweep_one", [](Fixtures&, const std::string& p) { sweep_frames(p, 1); }},
+        {"sweep_flat", [](Fixtures&, const std::string& p) {
+             fs::create_directories(p);
+             for (int k = 1; k <= 3; ++k) plain(p + "/f.000" + std::to_string(k) + ".exr", 24, 16, {"R", "G", "B"});
+         }},
+        {"sweep_mixed", [](Fixtures&, const std::string& p) {
+             sweep_frames(p, 3);
+             plain(p + "/f.0002.exr", 20, 16, {"R", "G", "B"});
+         }},
+        {"sweep_nan", [](Fixtures&, const std::string& p) {
+             sweep_frames(p, 3);
+             write_exr(p + "/f.0002.exr", 24, 16, {"R", "G", "B"}, [](int x, int y, int c) {
+                 return x == 5 && y == 3 && c == 1 ? std::numeric_limits<float>::quiet_NaN() : sweep_texture(x, y, c);
+             });
+         }},
+        {"sweep_unordered", [](Fixtures&, const std::string& p) {
+             sweep_frames(p, 3);
+             write_text(p + "/manifest.json", R"({"gdof_stack": 1, "focal_length_mm": 50, "sensor_width_mm": 36, "width": 24, "height": 16, "references": [
+                 {"file": "f.0001.exr", "focus_distance": 1, "f_number": 2},
+                 {"file": "f.0002.exr", "focus_distance": 3, "f_number": 2},
+                 {"file": "f.0003.exr", "focus_distance": 2, "f_number": 2}]})");
          }},
         // ---- damaged text
         {"truncated.json", [](Fixtures&, const std::string& p) { write_text(p, R"({"blurfield": {"kind": "focal_planes", )"); }},
