@@ -195,8 +195,10 @@ Result<DepthFromFocus> depth_from_focus(const std::vector<Image>& frames, const 
                 }
                 const float peak = v[best];
                 peaks[i] = peak;
-                std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(n / 2), v.end());
-                const float median = v[n / 2];
+                // The median (with two frames, the other frame).
+                const std::size_t mid = n == 2 ? 0 : n / 2;
+                std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(mid), v.end());
+                const float median = v[mid];
                 const float ratio = median > 0 ? peak / median : (peak > 0 ? 1e6f : 1.0f);
                 // Three frames around the peak (moved inwards at the sweep's
                 // ends, where the vertex may still lie up to half a step in).

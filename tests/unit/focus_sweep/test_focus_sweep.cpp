@@ -160,6 +160,28 @@ TEST(FocusSweep, IndexIsTheDepthWithoutFocusDistances) {
     }
 }
 
+// Two frames (a depth-from-defocus pair): each pixel is the frame it is
+// sharper in; the ratio test compares it with the other frame.
+TEST(FocusSweep, TwoFramesSayWhichIsSharper) {
+    const auto s = make_sweep(2);  // focused at 0.9 m and 6 m
+    std::vector<Image> frames = frames_of(s);
+    ASSERT_TRUE(align_sweep(frames));
+    auto r = depth_from_focus(frames, {});
+    ASSERT_TRUE(r) << r.message();
+    const Image& p = r.value().plate;
+    const int idx = p.channel_index("focus.index");
+    int near_ok = 0, far_ok = 0, near_n = 0, far_n = 0;
+    for (int y = 16; y < s.height - 16; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            if (s.boundary_distance(x + 0.5) < 16) continue;
+            const double z = s.strip_depth[std::size_t(s.strip_at(x + 0.5))];
+            if (z == 1.0) near_ok += p.at(idx, x, y) == 1.0f, ++near_n;
+            if (z == 5.0) far_ok += p.at(idx, x, y) == 2.0f, ++far_n;
+        }
+    EXPECT_GT(near_ok, 0.95 * near_n);
+    EXPECT_GT(far_ok, 0.95 * far_n);
+}
+
 TEST(FocusSweep, BadSweepsAreRefusedNamingTheCulprit) {
     const auto s = make_sweep(3);
     std::vector<Image> frames = frames_of(s);

@@ -15,6 +15,37 @@
 
 using namespace gdof;
 
+// A real depth-from-defocus pair (../shared/data/focalstack/breakfast: 25 mm,
+// f/8.3, focused at 529 and 869 mm): the wall behind is sharper in the far
+// frame; the bread in front lies nearer (which of the two frames shows each
+// of its pixels sharper depends on where it stands between them, which the
+// data does not say, so only the order is asked).
+TEST(FocusSweepReal, BreakfastPairOrdersNearAndFar) {
+    GDOF_REQUIRE_SHARED(near_path, "focalstack/breakfast/breakfast_near.png");
+    GDOF_REQUIRE_SHARED(far_path, "focalstack/breakfast/breakfast_far.png");
+    std::vector<Image> frames;
+    for (const std::string& p : {near_path, far_path}) {
+        auto r = io::read_flat(p);
+        ASSERT_TRUE(r) << r.message();
+        frames.push_back(std::move(r).value());
+    }
+    ASSERT_TRUE(align_sweep(frames));
+    auto d = depth_from_focus(frames, {529.0, 869.0});
+    ASSERT_TRUE(d) << d.message();
+    const Image& p = d.value().plate;
+    const int z = p.channel_index("Z");
+    auto mean_at = [&](int x0, int y0, int x1, int y1) {
+        double sum = 0;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) sum += p.at(z, x, y);
+        return sum / double((x1 - x0) * (y1 - y0));
+    };
+    const double bread = mean_at(40, 220, 200, 400), wall = mean_at(0, 0, 640, 120);
+    std::printf("[ measured ] breakfast: mean depth of the bread %.0f mm, of the wall %.0f mm\n", bread, wall);
+    EXPECT_GT(wall, 800.0);
+    EXPECT_LT(bread, wall - 150.0);
+}
+
 TEST(FocusSweepReal, KeyboardSweepAlignsAndOrdersDepth) {
     GDOF_REQUIRE_SHARED(first, "focalstack/keyboard/00.jpg");
     std::vector<Image> frames;
