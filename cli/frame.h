@@ -76,6 +76,7 @@ struct PendingLightField {
 // --depth-from-focus's modifiers (ops/focus_sweep.cpp).
 struct PendingSweep {
     std::string aligned_stack;  // --aligned-stack PATTERN ("" none): the aligned frames + manifest.json
+    std::vector<double> focus_distances;  // --focus-distances (a pattern's frames; empty: unknown)
     DepthFromFocusOptions options;
 };
 

@@ -85,7 +85,8 @@ void validate_structure(const Program& p) {
         if (n == "--diffuse" || n == "--bokeh" || n == "--vibrate") pending_layers.clear();
         if (n == "--psf-field" || n == "--psf-samples") pending_vibrate = s.flag;
         if (n == "--vibrate") pending_vibrate.clear();
-        if (n == "--aligned-stack" || n == "--dff-window-radius" || n == "--dff-min-peak-ratio") pending_sweep = s.flag;
+        if (n == "--aligned-stack" || n == "--focus-distances" || n == "--dff-window-radius" || n == "--dff-min-peak-ratio")
+            pending_sweep = s.flag;
         if (n == "--depth-from-focus") pending_sweep.clear();
     }
     if (!composite_option.empty() && !composite)

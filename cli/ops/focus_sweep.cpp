@@ -5,16 +5,18 @@
 // --composite use it. --aligned-stack PATTERN before it also writes the
 // aligned frames and their manifest.json (a stack for --composite, whose
 // references are sharp about their focus distance, or about their index when
-// none is known); --dff-window-radius and --dff-min-peak-ratio tune the
-// focus measure.
+// none is known); --focus-distances gives a pattern's frames their focus;
+// --dff-window-radius and --dff-min-peak-ratio tune the focus measure.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "cli.h"
 #include "gdof/focus_sweep.h"
+#include "gdof/image_ops.h"
 #include "gdof/io/image_io.h"
 #include "gdof/io/sequence.h"
 #include "gdof/io/stack_sources.h"
@@ -58,18 +60,30 @@ void sweep_files(const std::string& flag, const std::string& sweep, std::vector<
 }
 
 // The aligned frames' manifest: the input manifest's references (their lens
-// and limits), or, for a pattern, each frame sharp within half a frame of its
-// index.
-FocalStack aligned_manifest(const FocalStack& input, std::size_t n, const Image& frame) {
+// and limits), or, for a pattern, each frame sharp up to halfway to its
+// neighbours (in dioptres when its focus distance is known, else in frame
+// indices: index - 0.5 to index + 0.5), the ends as far beyond.
+FocalStack aligned_manifest(const FocalStack& input, const std::vector<double>& focus, std::size_t n, const Image& frame) {
     FocalStack st = input;
     st.width = frame.display_window().width();
     st.height = frame.display_window().height();
-    if (st.references.size() != n) {
-        st.references.assign(n, StackReference{});
-        for (std::size_t k = 0; k < n; ++k) {
-            st.references[k].near = double(k) + 0.5;
-            st.references[k].far = double(k) + 1.5;
+    if (st.references.size() == n) return st;
+    st.references.assign(n, StackReference{});
+    for (std::size_t k = 0; k < n; ++k) {
+        StackReference& r = st.references[k];
+        if (focus.size() != n) {
+            r.near = double(k) + 0.5;
+            r.far = double(k) + 1.5;
+            continue;
         }
+        // Dioptres of the frame and of the points halfway to each neighbour.
+        const double d = 1.0 / focus[k];
+        const double before = k > 0 ? 0.5 * (d + 1.0 / focus[k - 1]) : d - 0.5 * (1.0 / focus[k + 1] - d);
+        const double after = k + 1 < n ? 0.5 * (d + 1.0 / focus[k + 1]) : d + 0.5 * (d - 1.0 / focus[k - 1]);
+        const double hi = std::max(before, after), lo = std::min(before, after);
+        r.focus_distance = focus[k];
+        r.near = 1.0 / hi;
+        r.far = lo > 0 ? 1.0 / lo : std::numeric_limits<double>::infinity();
     }
     return st;
 }
@@ -83,6 +97,14 @@ void run_depth_from_focus(Frame& f, const std::string& sweep) {
     std::vector<double> focus;
     FocalStack manifest;
     sweep_files(flag, sweep, files, focus, manifest);
+    if (!opt.focus_distances.empty()) {
+        if (!manifest.references.empty())
+            usage_error("--focus-distances: the manifest '" + sweep + "' gives each reference's focus; give one or the other");
+        if (opt.focus_distances.size() != files.size())
+            runtime_error("--focus-distances: " + std::to_string(opt.focus_distances.size()) + " distances for the " +
+                          std::to_string(files.size()) + " frames of '" + sweep + "'");
+        focus = opt.focus_distances;
+    }
     std::optional<StackOutput> aligned_out;
     if (!opt.aligned_stack.empty()) {
         check_stack_pattern(opt.aligned_stack, "--aligned-stack");
@@ -141,7 +163,7 @@ void run_depth_from_focus(Frame& f, const std::string& sweep) {
             check(aligned_out->write(k, std::move(copy)));
             check_interrupted();
         }
-        aligned_out->write_manifest(aligned_manifest(manifest, frames.size(), frames.front()));
+        aligned_out->write_manifest(aligned_manifest(manifest, focus, frames.size(), frames.front()));
     }
     Image& plate = result.plate;
     plate.metadata.set_string("gdof:focusSweep", sweep);
@@ -166,6 +188,15 @@ std::vector<Command> focus_sweep_commands() {
                  .help = "with --depth-from-focus: also write the aligned frames ('aligned/ref.####.exr') and their "
                          "manifest.json, a stack for --composite",
                  .run = [](Frame& f, const Step& s) { f.sweep.aligned_stack = s.args[0]; }});
+    t.push_back({.names = {"--focus-distances"}, .args = "D1,D2,...", .kind = Kind::Modifier, .group = L,
+                 .help = "--depth-from-focus: each frame's focus distance (scene units), in frame order, for a sweep "
+                         "given as a pattern: Z in scene units, and the aligned stack's limits halfway to the "
+                         "neighbours in dioptres",
+                 .run = [](Frame& f, const Step& s) {
+                     f.sweep.focus_distances.clear();
+                     for (const std::string& v : take(split_list(s.args[0]), s.flag))
+                         f.sweep.focus_distances.push_back(parse_double(s.flag, v));
+                 }});
     t.push_back({.names = {"--dff-window-radius"}, .args = "N", .kind = Kind::Modifier, .group = L,
                  .help = "--depth-from-focus: the focus measure's window, (2 N + 1)^2 pixels (default 4)",
                  .run = [](Frame& f, const Step& s) { f.sweep.options.window_radius = parse_int(s.flag, s.args[0]); }});

@@ -4,6 +4,7 @@
 // from it; bad sweeps refused with nothing written.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "../unit/focus_sweep/sweep_test_helpers.h"
 #include "cli_test_helpers.h"
@@ -55,6 +56,70 @@ TEST(cli_focus_sweep, pattern_gives_the_frame_index_as_depth) {
     const int x = int(2.5 * s.width / 6.0), y = s.height / 2;
     EXPECT_NEAR(channel_at(p, "Z", x, y), want, 0.2);
     EXPECT_EQ(channel_at(p, "Z", x, y), channel_at(p, "focus.index", x, y));
+}
+
+// A pattern with --focus-distances: Z in metres; the aligned stack's limits
+// halfway to the neighbours in dioptres; method 2 with a plane of focus at
+// 2 m takes the 2 m strip from a frame whose limits reach it.
+TEST(cli_focus_sweep, focus_distances_give_a_pattern_metric_depth_and_limits) {
+    ScratchDir dir;
+    const auto s = sweep_test::make_sweep(5);  // focused at 0.9, 1.14, 1.57, 2.48, 6 m
+    write_sweep(s, dir.path().string());
+    std::string list;
+    for (double d : s.focus) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.17g", d);
+        list += (list.empty() ? "" : ",") + std::string(b);
+    }
+    auto r = run_gdof("--focus-distances " + list + " --aligned-stack " + quote(dir.file("al/ref.####.exr")) +
+                      " --depth-from-focus " + quote(dir.file("f.####.exr")) + " -o " + quote(dir.file("d.exr")));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto plate = gdof::io::read_image(dir.file("d.exr"));
+    ASSERT_TRUE(plate);
+    const gdof::Image& p = plate->flat(0);
+    EXPECT_EQ(p.metadata.get_string("gdof:depthUnits").value_or(""), "focus distance");
+    const int x2 = int(2.5 * s.width / 6.0), y = s.height / 2;  // the strip at 2 m
+    EXPECT_NEAR(1.0 / channel_at(p, "Z", x2, y), 0.5, 0.03);
+    auto m = gdof::parse_stack_manifest(read_text(dir.file("al/manifest.json")), dir.file("al"));
+    ASSERT_TRUE(m) << m.message();
+    ASSERT_EQ(m->references.size(), 5u);
+    for (std::size_t k = 0; k < 5; ++k) {
+        const auto& ref = m->references[k];
+        EXPECT_DOUBLE_EQ(ref.focus_distance, s.focus[k]);
+        const double d = 1.0 / s.focus[k];
+        if (k > 0) EXPECT_NEAR(1.0 / ref.near, 0.5 * (d + 1.0 / s.focus[k - 1]), 1e-9);
+        if (k + 1 < 5) EXPECT_NEAR(1.0 / ref.far, 0.5 * (d + 1.0 / s.focus[k + 1]), 1e-9);
+    }
+    // The ends extend as far beyond as halfway to the neighbour: 6 m's far limit at 1/6 - (1/2.48 - 1/6) / 2 dioptres.
+    EXPECT_NEAR(1.0 / m->references[4].far, 1.5 / s.focus[4] - 0.5 / s.focus[3], 1e-9);
+    write_text(dir.file("plane.json"),
+               R"({"blurfield": {"kind": "focal_planes", "depths": [2.0], "max_blur": 8, "slope": 8}})");
+    r = run_gdof(quote(dir.file("d.exr")) + " --focal-length-mm 35 --blurfield " + quote(dir.file("plane.json")) +
+                 " --composite " + quote(dir.file("al/manifest.json")) + " --aovs -o " + quote(dir.file("c.exr")));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The 2 m strip comes whole from one of the two references whose limits
+    // meet at 1.92 m (by the paper's deviation, the one ending there), bit for bit.
+    auto c = gdof::io::read_image(dir.file("c.exr"));
+    ASSERT_TRUE(c);
+    const float picked = channel_at(c->flat(0), "stack.index", x2, y);
+    ASSERT_TRUE(picked == 2.0f || picked == 3.0f) << picked;
+    auto ref = gdof::io::read_image(m->references[std::size_t(picked)].path);
+    ASSERT_TRUE(ref);
+    for (int yy = 40; yy < 140; yy += 7)
+        for (int xx = x2 - 8; xx <= x2 + 8; xx += 4) {
+            ASSERT_EQ(channel_at(c->flat(0), "stack.index", xx, yy), picked) << xx << "," << yy;
+            ASSERT_EQ(channel_at(c->flat(0), "G", xx, yy), channel_at(ref->flat(0), "G", xx, yy)) << xx << "," << yy;
+        }
+    // A count that does not match the frames, and a manifest given focus twice.
+    r = run_gdof("--focus-distances 1,2 --depth-from-focus " + quote(dir.file("f.####.exr")) + " -o " + quote(dir.file("e.exr")));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "2 distances for the 5 frames")) << r.output;
+    EXPECT_FALSE(fs::exists(dir.file("e.exr")));
+    r = run_gdof("--focus-distances 1,2,3,4,5 --depth-from-focus " + quote(dir.file("al/manifest.json")) + " -o " +
+                 quote(dir.file("e.exr")));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(contains(r.output, "give one or the other")) << r.output;
+    EXPECT_FALSE(fs::exists(dir.file("e.exr")));
 }
 
 // A ray-traced focus stack (the generated scene at f/0.4, eight focus
