@@ -169,12 +169,8 @@ Result<DepthFromFocus> depth_from_focus(const std::vector<Image>& frames, const 
         auto l = luminance_plane(frames[k], "depth from focus: frame " + std::to_string(k + 1), exec);
         if (!l) return l.status();
         measure.push_back(focus_measure(l.value(), options.window_radius, exec));
-        const RgbaIndices ix = find_rgba(frames[k]);
-        int grey = 0;
-        while (grey < frames[k].nchannels() && !frames[k].plane(grey)) ++grey;
-        rgb[k * 3 + 0] = frames[k].plane(ix.r >= 0 ? ix.r : grey);
-        rgb[k * 3 + 1] = frames[k].plane(ix.g >= 0 ? ix.g : grey);
-        rgb[k * 3 + 2] = frames[k].plane(ix.b >= 0 ? ix.b : grey);
+        const std::array<const float*, 3> c = colour_planes(frames[k]);  // luminance_plane checked them
+        std::copy(c.begin(), c.end(), rgb.begin() + std::ptrdiff_t(k * 3));
         if (exec.is_cancelled()) return Status::cancelled("depth from focus");
         exec.report(0.7 * double(k + 1) / double(n));
     }

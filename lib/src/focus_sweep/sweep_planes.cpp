@@ -6,18 +6,19 @@
 
 namespace gdof::sweep_detail {
 
-Result<Plane> luminance_plane(const Image& image, const std::string& what, const Exec& exec) {
+std::array<const float*, 3> colour_planes(const Image& image) {
     const RgbaIndices ix = find_rgba(image);
-    const bool rgb = ix.r >= 0 && ix.g >= 0 && ix.b >= 0 && image.plane(ix.r) && image.plane(ix.g) && image.plane(ix.b);
-    int grey = -1;
-    if (!rgb)
-        for (int c = 0; c < image.nchannels() && grey < 0; ++c)
-            if (image.plane(c)) grey = c;
-    if (!rgb && grey < 0) return Status::error(what + ": no float colour channel", StatusCode::InvalidArgument);
+    if (ix.r >= 0 && ix.g >= 0 && ix.b >= 0 && image.plane(ix.r) && image.plane(ix.g) && image.plane(ix.b))
+        return {image.plane(ix.r), image.plane(ix.g), image.plane(ix.b)};
+    for (int c = 0; c < image.nchannels(); ++c)
+        if (const float* grey = image.plane(c)) return {grey, grey, grey};
+    return {nullptr, nullptr, nullptr};
+}
+
+Result<Plane> luminance_plane(const Image& image, const std::string& what, const Exec& exec) {
+    const auto [r, g, b] = colour_planes(image);
+    if (!r) return Status::error(what + ": no float colour channel", StatusCode::InvalidArgument);
     Plane p{image.width(), image.height(), std::vector<float>(image.npixels())};
-    const float* r = rgb ? image.plane(ix.r) : image.plane(grey);
-    const float* g = rgb ? image.plane(ix.g) : r;
-    const float* b = rgb ? image.plane(ix.b) : r;
     std::vector<unsigned char> bad_row(std::size_t(p.h), 0);
     parallel_for(exec, p.h, [&](long y0, long y1) {
         for (long y = y0; y < y1; ++y) {

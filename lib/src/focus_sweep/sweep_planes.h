@@ -3,6 +3,7 @@
 // filters. Internal to focus_sweep.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -18,6 +19,10 @@ struct Plane {
     float at(int x, int y) const { return v[std::size_t(y) * std::size_t(w) + std::size_t(x)]; }
     float& at(int x, int y) { return v[std::size_t(y) * std::size_t(w) + std::size_t(x)]; }
 };
+
+// The colour a frame is measured and composited by: its R, G, B planes, or
+// its first float channel three times (grey); nullptrs when it has none.
+std::array<const float*, 3> colour_planes(const Image& image);
 
 // The square root of the luminance of R, G, B (or of the first channel),
 // clamped to [0, 16]: steps weigh alike in shadows and highlights, and a
