@@ -16,7 +16,9 @@ std::array<const float*, 3> colour_planes(const Image& image) {
 }
 
 Result<Plane> luminance_plane(const Image& image, const std::string& what, const Exec& exec) {
-    const auto [r, g, b] = colour_planes(image);
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::array<const float*, 3> rgb = colour_planes(image);
+    const float *r = rgb[0], *g = rgb[1], *b = rgb[2];
     if (!r) return Status::error(what + ": no float colour channel", StatusCode::InvalidArgument);
     Plane p{image.width(), image.height(), std::vector<float>(image.npixels())};
     std::vector<unsigned char> bad_row(std::size_t(p.h), 0);
