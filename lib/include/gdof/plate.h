@@ -25,8 +25,14 @@
 //      `mixed_step`) takes the nearer surface's depth: part of it is the
 //      foreground, whose blur must carry it, and no ring of intermediate
 //      depth (a slice and a blur of its own) appears around a silhouette.
-//      (Splitting such a pixel into a foreground share and a background part
-//      measured worse at every depth edge of the benchmark: docs/diffusion.md.)
+//      Its parts (a foreground share and a background part, from its colour
+//      between the two sides') are kept in PlateDepth::front_mixed: where the
+//      blur field makes the front sharper than the background,
+//      split_sharp_fronts splits it, so the background's share is blurred
+//      with the background instead of staying as a sharp line of its colour
+//      along the front's edge. (Split wherever the front is as blurred or
+//      more, the split measured worse at the benchmark's depth edges:
+//      docs/diffusion.md.)
 //   5. holes at silhouettes: a sensor loses the pixels next to a depth step
 //      (the projector's shadow on the far side, flying pixels filtered out),
 //      which are the silhouette's mixed pixels; the fill alone makes each
@@ -44,6 +50,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -89,6 +96,7 @@ struct GDOF_API DepthCleanupStats {
     std::size_t silhouette_holes = 0;  // of them, next to a depth step and decided by their colour
     std::size_t sky = 0;       // pixels at infinite depth
     std::size_t mixed = 0;     // mixed pixels given the nearer surface's depth (step 4)
+    std::size_t sharp_fronts = 0;  // of them, split where the front is sharper (split_sharp_fronts)
     double noise = 0.0;        // measured relative noise of the depth (standard deviation / depth)
     int noise_smoothing_radius = 0;  // the smoothing window's radius (0: not smoothed)
     std::string report() const;  // one line, for --stats
@@ -101,6 +109,7 @@ struct MixedPixel {
     std::size_t index = 0;  // row-major over the window
     float fg_depth = 0;     // the foreground's depth (the pixel's own, in `depth`, is the background's)
     float fg_share = 0;     // the foreground's share of the pixel, in (0, 1)
+    float bg_depth = 0;     // PlateDepth::front_mixed: the background's depth (else unused)
     float fg_rgb[3] = {0, 0, 0};
     float bg_rgb[3] = {0, 0, 0};
 };
@@ -112,6 +121,9 @@ struct GDOF_API PlateDepth {
     // or +inf (holes are filled). A mixed pixel's is its background's.
     std::vector<float> depth;
     std::vector<MixedPixel> mixed;  // by increasing index
+    // Step 4's pixels whose colour tells their parts (by increasing index),
+    // still whole at the foreground's depth: split_sharp_fronts splits them.
+    std::vector<MixedPixel> front_mixed;
     DepthCleanupStats stats;
     bool has_mixed() const { return !mixed.empty(); }
     // The split of pixel `index`, or nullptr when it is not mixed.
@@ -133,6 +145,20 @@ GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_ch
 // focal length is checked.
 GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, const DepthDecode& decode,
                                                 const DepthCleanupOptions& options = {}, const Exec& exec = {});
+
+// A front counts as sharper than its background when their blur radii
+// differ by more than this, px.
+inline constexpr double kSharpFrontPx = 0.5;
+
+// Splits each of pd.front_mixed whose background blurs more than its front
+// by more than min_dr px (bg_radius[k], px, for front_mixed[k]; `radius`
+// per pixel of pd.depth, `fg_radius` per entry of pd.mixed): the pixel's
+// depth becomes its background's, it joins pd.mixed (in index order, with
+// its foreground's radius, the pixel's radius before, in fg_radius) and
+// `radius` takes bg_radius. front_mixed is emptied. Returns how many were
+// split (also in pd.stats.sharp_fronts).
+GDOF_API std::size_t split_sharp_fronts(PlateDepth& pd, std::span<float> radius, std::vector<float>& fg_radius,
+                                        std::span<const float> bg_radius, double min_dr = kSharpFrontPx);
 
 // The median of the finite depths in a (2 r + 1)^2 window around pixel (x, y)
 // (absolute coordinates), sky excluded; NaN when the window has none. A

@@ -218,9 +218,10 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
 // One flat RGBA + depth part -> layers_from_depth_map, extended by the
 // largest blur radius of the image.
 // The blur radius of every pixel of a plate at its prepared depth (pixel
-// centres), and of every mixed pixel's foreground (one per entry of pd.mixed).
+// centres), of every mixed pixel's foreground (one per entry of pd.mixed)
+// and of every front_mixed pixel's background (rb).
 Status plate_radii(const BlurField& field, const Camera& camera, const PlateDepth& pd, FrameBuffer<float>& r,
-                   std::vector<float>& rf, const Exec& exec) {
+                   std::vector<float>& rf, std::vector<float>& rb, const Exec& exec) {
     const Roi w = pd.window;
     const int W = w.width();
     r.resize(pd.depth.size());  // every element evaluated below
@@ -234,13 +235,18 @@ Status plate_radii(const BlurField& field, const Camera& camera, const PlateDept
         return Status::ok();
     }, 8, "blur map");
     if (!st) return st;
-    std::vector<PixelDepth> fg(pd.mixed.size());
-    for (std::size_t k = 0; k < pd.mixed.size(); ++k) {
-        const std::size_t i = pd.mixed[k].index;
-        fg[k] = {w.x0 + double(i % std::size_t(W)) + 0.5, w.y0 + double(i / std::size_t(W)) + 0.5, pd.mixed[k].fg_depth};
-    }
-    rf.assign(fg.size(), 0.0f);
-    return field.evaluate(camera, fg, rf);
+    // At each listed pixel's centre, the depth `depth_of` gives.
+    auto at_pixels = [&](const std::vector<MixedPixel>& list, auto depth_of, std::vector<float>& out) {
+        std::vector<PixelDepth> q(list.size());
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            const std::size_t i = list[k].index;
+            q[k] = {w.x0 + double(i % std::size_t(W)) + 0.5, w.y0 + double(i / std::size_t(W)) + 0.5, depth_of(list[k])};
+        }
+        out.assign(q.size(), 0.0f);
+        return field.evaluate(camera, q, out);
+    };
+    if (Status s = at_pixels(pd.mixed, [](const MixedPixel& m) { return m.fg_depth; }, rf); !s) return s;
+    return at_pixels(pd.front_mixed, [](const MixedPixel& m) { return m.bg_depth; }, rb);
 }
 
 // A plate: its depth decoded and cleaned (holes, speckles, noise, mixed silhouette
@@ -265,10 +271,13 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
                              StatusCode::NotFound, "depth_channel");
     auto pd = prepare_plate_depth(flat, *z, settings.source.depth_decode, camera, settings.cleanup, exec);
     if (!pd) return pd.status().prefix("defocus");
-    depth_stats = pd->stats;
     FrameBuffer<float> r;
-    std::vector<float> rf;
-    if (Status st = plate_radii(field, camera, *pd, r, rf, exec); !st) return st.prefix("defocus: blur field");
+    std::vector<float> rf, rb;
+    if (Status st = plate_radii(field, camera, *pd, r, rf, rb, exec); !st) return st.prefix("defocus: blur field");
+    // A mixed pixel at the edge of a front sharper than its background is
+    // split: its background's share blurs with the background (plate.h, step 4).
+    split_sharp_fronts(*pd, std::span<float>(r.data(), r.size()), rf, rb);
+    depth_stats = pd->stats;
     SliceOptions so;
     so.split = settings.split;
     so.source = settings.source;

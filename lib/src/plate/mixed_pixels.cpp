@@ -144,38 +144,6 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
     return cand;
 }
 
-namespace {
-
-// Silhouette holes (split_silhouette_holes): the two surfaces' colours must
-// differ by this fraction of the larger channel value to be told apart; the
-// pixel may lie this far off the line between them (in units of their
-// difference) and its share this far outside [0, 1]; a share within
-// kPureShare of 0 or 1 is all background or all foreground.
-constexpr double kDistinctColours = 0.1;
-constexpr double kResidual = 0.35;
-constexpr double kShareSlack = 0.25;
-constexpr double kPureShare = 0.1;
-
-// The parts' colours: each surface's colour (`fg`, `bg`), both moved by the
-// residual so that the parts composite back exactly:
-// share * fg + (1 - share) * bg = pixel.
-void unmix(MixedPixel& m, const float pixel[3], const double fg[3], const double bg[3]) {
-    for (int c = 0; c < 3; ++c) {
-        const double r = pixel[c] - (m.fg_share * fg[c] + (1.0 - m.fg_share) * bg[c]);
-        m.fg_rgb[c] = float(fg[c] + r);
-        m.bg_rgb[c] = float(bg[c] + r);
-        // No negative light: give the deficit to the other part.
-        if (m.fg_rgb[c] < 0) {
-            m.fg_rgb[c] = 0;
-            m.bg_rgb[c] = float(pixel[c] / (1.0 - m.fg_share));
-        } else if (m.bg_rgb[c] < 0) {
-            m.bg_rgb[c] = 0;
-            m.fg_rgb[c] = float(pixel[c] / m.fg_share);
-        }
-    }
-}
-
-}  // namespace
 
 namespace {
 
@@ -191,10 +159,11 @@ constexpr double kRamp = 1.5;
 
 }  // namespace
 
-std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec) {
+std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec,
+                            std::vector<MixedStep>* steps) {
     // Decisions read the depths as measured: the changes (few) are listed
     // per row and written after.
-    std::vector<std::vector<std::pair<std::size_t, float>>> row_changes(static_cast<std::size_t>(H));
+    std::vector<std::vector<MixedStep>> row_changes(static_cast<std::size_t>(H));
     // The nearest and farthest depth of the (2r+1)^2 window around (x, y),
     // from (near, far) on (sky is farthest; holes do not count).
     auto window = [&](int x, int y, int r, float& near, float& far) {
@@ -238,14 +207,15 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
                     window(x, y, 2, near5, far5);
                     if (std::log(double(far5) / double(near5)) > kRamp * std::log(double(far) / double(near))) continue;
                 }
-                row_changes[std::size_t(y)].push_back({i, near});
+                row_changes[std::size_t(y)].push_back({i, near, far});
             }
         }
     }, 16);
     std::size_t n = 0;
     for (const auto& row : row_changes) {
-        for (const auto& [i, near] : row) depth[i] = near;
+        for (const MixedStep& m : row) depth[m.index] = m.near;
         n += row.size();
+        if (steps) steps->insert(steps->end(), row.begin(), row.end());
     }
     return n;
 }
@@ -286,10 +256,7 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
             // surface receding steeply (a floor at a grazing angle spans the
             // ratio in a few rows): the measured depths form two groups, with
             // at most a quarter of them between.
-            struct Side {
-                int dist2 = std::numeric_limits<int>::max(), n = 0;
-                double rgb[3] = {0, 0, 0}, depth = 0;
-            } fg, bg;
+            SideColour fg, bg;
             int between = 0, total = 0;
             for_each_pure([&](std::size_t j, int d2) {
                 const float q = depth[j];
@@ -299,35 +266,16 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
                     ++between;
                     return;
                 }
-                Side& sd = is_fg ? fg : bg;
-                if (d2 > sd.dist2) return;
-                if (d2 < sd.dist2) sd = Side{d2, 0, {0, 0, 0}, 0};
-                for (int c = 0; c < 3; ++c) sd.rgb[c] += rgb[c][j];
-                sd.depth += q;
-                ++sd.n;
+                (is_fg ? fg : bg).add(d2, rgb, j, q);
             });
             if (between * 4 > total) continue;
             if (!fg.n || !bg.n) continue;
-            double f[3], b[3], p[3], den = 0, num = 0, fb_scale = 0;
-            for (int c = 0; c < 3; ++c) {
-                f[c] = fg.rgb[c] / fg.n;
-                b[c] = bg.rgb[c] / bg.n;
-                p[c] = rgb[c][i];
-                den += (f[c] - b[c]) * (f[c] - b[c]);
-                num += (p[c] - b[c]) * (f[c] - b[c]);
-                fb_scale = std::max({fb_scale, std::abs(f[c]), std::abs(b[c])});
-            }
-            // Surfaces too alike in colour to tell apart: the fill stays.
-            if (!(den > 0.0) || std::sqrt(den) < kDistinctColours * fb_scale) continue;
-            const double share = num / den;
-            // The pixel must lie near the line between the two colours
-            // (texture or a third surface otherwise): the fill stays.
-            double res = 0;
-            for (int c = 0; c < 3; ++c) {
-                const double m = share * f[c] + (1.0 - share) * b[c];
-                res += (p[c] - m) * (p[c] - m);
-            }
-            if (share < -kShareSlack || share > 1.0 + kShareSlack || res > kResidual * kResidual * den) continue;
+            double f[3], b[3];
+            fg.mean(f);
+            bg.mean(b);
+            const float pixel[3] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+            const double share = colour_share(f, b, pixel);
+            if (std::isnan(share)) continue;
             const float fg_depth = float(fg.depth / fg.n), bg_depth = float(bg.depth / bg.n);
             ++recoloured;
             if (share >= 1.0 - kPureShare) {
@@ -342,7 +290,6 @@ std::vector<MixedPixel> split_silhouette_holes(std::vector<float>& depth, const 
             m.index = i;
             m.fg_depth = fg_depth;
             m.fg_share = float(share);
-            const float pixel[3] = {rgb[0][i], rgb[1][i], rgb[2][i]};
             unmix(m, pixel, f, b);
             depth[i] = bg_depth;
             out.push_back(m);

@@ -26,7 +26,9 @@ std::string DepthCleanupStats::report() const {
     return "depth: " + std::to_string(holes) + " holes (" + pct(holes) + "), " + std::to_string(speckles) +
            " speckle pixels, " + std::to_string(filled) + " filled (" + std::to_string(silhouette_holes) +
            " at silhouettes by colour), " + std::to_string(mixed) +
-           " mixed silhouette pixels to the nearer surface, " + std::to_string(sky) + " sky (" + pct(sky) + "), noise " +
+           " mixed silhouette pixels to the nearer surface" +
+           (sharp_fronts ? " (" + std::to_string(sharp_fronts) + " split where the front is sharper)" : std::string()) +
+           ", " + std::to_string(sky) + " sky (" + pct(sky) + "), noise " +
            noise_text + (noise_smoothing_radius > 0 ? " (smoothed " + window + ")" : "");
 }
 
@@ -150,15 +152,19 @@ Result<PlateDepth> prepare(const Image& plate, int depth_channel, const DepthDec
         if (exec.is_cancelled()) return Status::cancelled("plate depth");
     }
     if (options.mixed_pixels) {
-        out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec);
+        std::vector<MixedStep> steps;
+        out.stats.mixed = mixed_to_nearer(out.depth, W, H, options.mixed_step, exec, &steps);
         if (exec.is_cancelled()) return Status::cancelled("plate depth");
+        const RgbaIndices ix = find_rgba(plate);
+        const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
+                               ix.b >= 0 ? plate.plane(ix.b) : nullptr};
         if (!was_hole.empty()) {  // the colour decides only holes
-            const RgbaIndices ix = find_rgba(plate);
-            const float* rgb[3] = {ix.r >= 0 ? plate.plane(ix.r) : nullptr, ix.g >= 0 ? plate.plane(ix.g) : nullptr,
-                                   ix.b >= 0 ? plate.plane(ix.b) : nullptr};
             out.mixed = split_silhouette_holes(out.depth, was_hole, mixed, W, H, options.continuity, options.mixed_step,
                                                rgb, out.stats.silhouette_holes);
+            // A filled hole is decided by step 5 alone.
+            std::erase_if(steps, [&](const MixedStep& m) { return was_hole[m.index] != 0; });
         }
+        out.front_mixed = front_parts(out.depth, steps, was_hole, W, H, options.continuity, rgb);
     }
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "gdof/exec.h"
@@ -63,7 +64,56 @@ Status fill_holes(std::vector<float>& depth, int width, int height, const Guide&
 // a pixel whose 3x3 neighbourhood spans a step of at least `mixed_step` and
 // whose depth lies between its nearest and farthest neighbours (measurably:
 // 2% from each), unless the 5x5 window says it is a ramp. Returns how many.
-std::size_t mixed_to_nearer(std::vector<float>& depth, int width, int height, double mixed_step, const Exec& exec = {});
+// `steps` (optional): each moved pixel with the two depths it lay between,
+// in index order.
+struct MixedStep {
+    std::size_t index;
+    float near, far;
+};
+std::size_t mixed_to_nearer(std::vector<float>& depth, int width, int height, double mixed_step, const Exec& exec = {},
+                            std::vector<MixedStep>* steps = nullptr);
+
+// A mixed pixel's parts from its colour (colour_parts.cpp). The two
+// surfaces' colours must differ by kDistinctColours of the larger channel
+// value to be told apart; the pixel may lie kResidual off the line between
+// them (in units of their difference) and its share kShareSlack outside
+// [0, 1]; a share within kPureShare of 0 or 1 is all one surface.
+inline constexpr double kDistinctColours = 0.1;
+inline constexpr double kResidual = 0.35;
+inline constexpr double kShareSlack = 0.25;
+inline constexpr double kPureShare = 0.1;
+// A front's part never below this share: a pixel next to the front whose
+// colour says none of it (its background's colour varies) keeps a trace.
+inline constexpr double kMinFrontShare = 0.02;
+
+// The colour, depth and count of one surface's pixels nearest to a mixed
+// pixel (all at the least squared distance seen).
+struct SideColour {
+    int dist2 = std::numeric_limits<int>::max();
+    int n = 0;
+    double sum[3] = {0, 0, 0};
+    double depth = 0;
+    void add(int d2, const float* const rgb[3], std::size_t j, float q);
+    void mean(double out[3]) const;
+};
+// The foreground's share s of `pixel` (s * fg + (1 - s) * bg nearest to
+// it), or NaN where the colours cannot tell: too alike, the pixel off their
+// line (texture, a third surface), s far outside [0, 1].
+double colour_share(const double fg[3], const double bg[3], const float pixel[3]);
+// The parts' colours for m.fg_share: each surface's colour, both moved by
+// the residual so that the parts composite back exactly:
+// share * fg + (1 - share) * bg = pixel.
+void unmix(MixedPixel& m, const float pixel[3], const double fg[3], const double bg[3]);
+
+// Step 4's moved pixels as parts (sharp_fronts.cpp): each one's foreground
+// and background colour from the nearest measured (not was_hole; may be
+// empty: none), unmoved pixels of each side in its 5x5 window, its share
+// from its colour; none where the colours cannot tell or the pixel is
+// nearly all foreground (as moved). Its depth stays the foreground's;
+// bg_depth is the background side's mean.
+std::vector<MixedPixel> front_parts(const std::vector<float>& depth, const std::vector<MixedStep>& steps,
+                                    const std::vector<unsigned char>& was_hole, int width, int height,
+                                    double continuity, const float* const rgb[3]);
 
 // Holes at silhouettes: a sensor loses the pixels next to a depth step (the
 // projector's shadow on the far side, flying pixels filtered out), and those

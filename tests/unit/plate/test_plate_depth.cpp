@@ -436,6 +436,76 @@ TEST(plate_depth, MixedSilhouettePixelsTakeTheNearerSurfacesDepth) {
     EXPECT_FLOAT_EQ(po->depth[std::size_t(kH / 2) * kW + 80], img.at(4, 80, kH / 2));
 }
 
+// A renderer's filtered Z at a silhouette (no holes): the mixed pixel moves to
+// the foreground, and its parts (the foreground's share, each side's colour)
+// come from its colour for the defocus to split where the front is sharper.
+TEST(plate_depth, MixedSilhouettePixelsKeepTheirPartsFromTheirColour) {
+    auto beta = [](int y) { return 0.05 + 0.9 * y / double(kH - 1); };
+    const float fg[3] = {0.8f, 0.1f, 0.1f};
+    auto bg = [](int x, int y, int c) {
+        const bool check = ((x / 6) + (y / 6)) % 2 == 0;
+        return c == 1 ? (check ? 0.5f : 0.35f) : 0.05f;
+    };
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const double b = x < 80 ? 1.0 : x > 80 ? 0.0 : beta(y);
+            for (int c = 0; c < 3; ++c) img.at(c, x, y) = float(b * fg[c] + (1 - b) * bg(x, y, c));
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = float(b * 2.0 + (1 - b) * 6.0);
+        }
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pd) << pd.message();
+    EXPECT_FALSE(pd->has_mixed()) << "nothing is split before the blur is known";
+    std::size_t listed = 0, near_share = 0, checked = 0;
+    std::size_t k = 0;
+    for (int y = 0; y < kH; ++y) {
+        const std::size_t i = std::size_t(y) * kW + 80;
+        const double b = beta(y);
+        if (b > 0.08 && b < 0.92) EXPECT_FLOAT_EQ(pd->depth[i], 2.0f) << y << ": moved to the nearer surface";
+        while (k < pd->front_mixed.size() && pd->front_mixed[k].index < i) ++k;
+        const MixedPixel* m = k < pd->front_mixed.size() && pd->front_mixed[k].index == i ? &pd->front_mixed[k] : nullptr;
+        if (b >= 0.92) EXPECT_EQ(m, nullptr) << y << ": all foreground stays whole";
+        if (!(b > 0.15 && b < 0.85)) continue;
+        ++checked;
+        if (!m) continue;
+        ++listed;
+        near_share += std::abs(m->fg_share - b) < 0.05 ? 1 : 0;
+        EXPECT_FLOAT_EQ(m->fg_depth, 2.0f) << y;
+        EXPECT_FLOAT_EQ(m->bg_depth, 6.0f) << y;
+        for (int c = 0; c < 3; ++c)  // the parts composite back to the pixel
+            EXPECT_NEAR(m->fg_share * m->fg_rgb[c] + (1 - m->fg_share) * m->bg_rgb[c], img.at(c, 80, y), 1e-5) << y;
+    }
+    EXPECT_GT(listed, checked * 9 / 10) << "the silhouette's mixed pixels have parts";
+    EXPECT_GE(near_share * 10, listed * 9) << "shares within 0.05 of the true coverage";
+    for (const MixedPixel& m : pd->front_mixed) EXPECT_EQ(m.index % kW, 80u) << "only the silhouette's pixels";
+
+    // split_sharp_fronts: only where the background blurs more than the front
+    // by more than kSharpFrontPx; split pixels take the background's depth
+    // and radius, the foreground's radius goes with them.
+    PlateDepth split = *pd;
+    const std::size_t n = split.front_mixed.size();
+    ASSERT_GT(n, 10u);
+    std::vector<float> radius(split.depth.size(), 0.2f), fg_radius;
+    std::vector<float> bg_radius(n);
+    for (std::size_t j = 0; j < n; ++j) bg_radius[j] = j % 2 ? 0.2f + float(kSharpFrontPx) * 1.5f : 0.2f + float(kSharpFrontPx) * 0.9f;
+    const std::size_t made = split_sharp_fronts(split, radius, fg_radius, bg_radius);
+    EXPECT_EQ(made, n / 2);
+    EXPECT_EQ(split.stats.sharp_fronts, n / 2);
+    EXPECT_TRUE(split.front_mixed.empty());
+    ASSERT_EQ(split.mixed.size(), n / 2);
+    ASSERT_EQ(fg_radius.size(), n / 2);
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t i = pd->front_mixed[j].index;
+        const MixedPixel* m = split.mixed_at(i);
+        EXPECT_EQ(m != nullptr, j % 2 == 1) << j;
+        EXPECT_FLOAT_EQ(split.depth[i], j % 2 ? 6.0f : 2.0f) << j;
+        EXPECT_FLOAT_EQ(radius[i], j % 2 ? bg_radius[j] : 0.2f) << j;
+    }
+    for (std::size_t j = 0; j + 1 < split.mixed.size(); ++j) EXPECT_LT(split.mixed[j].index, split.mixed[j + 1].index);
+    for (float r : fg_radius) EXPECT_FLOAT_EQ(r, 0.2f);
+}
+
 // A sensor loses the silhouette's pixels (the shadow band on the far side of
 // a step): the fill alone makes each all foreground or all background. Its
 // colour between the two sides' says how much of each it shows.

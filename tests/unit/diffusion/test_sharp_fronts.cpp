@@ -1,0 +1,116 @@
+// A front in focus over a blurred background (plate.h step 4, split_sharp_fronts):
+// the front's anti-aliased edge pixels are part front, part background. The
+// background's share must be blurred with the background, as a lens does,
+// not kept as a sharp line of its colour along the front's edge. Reference:
+// the same background defocused alone (no front), mixed with the front's
+// colour by each edge pixel's coverage.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "gdof/camera.h"
+#include "gdof/defocus.h"
+#include "gdof/plate.h"
+
+using namespace gdof;
+
+namespace {
+
+constexpr int kW = 160, kH = 120;
+constexpr int kBar0 = 70, kBar1 = 80;  // the front: columns [70, 80), edge pixels at 69 and 80
+constexpr double kFront = 2.0, kBack = 6.0;
+constexpr float kFrontGrey = 0.05f;
+
+// Horizontal stripes, 6 rows bright and 6 dark: blurred by the background's
+// 6 px they flatten, sharp they do not.
+float back_grey(int y) { return (y / 6) % 2 ? 0.8f : 0.2f; }
+// Each edge pixel's coverage by the front, varying down the edge.
+double coverage(int x, int y) {
+    if (x == kBar1) return 0.2 + 0.6 * y / double(kH - 1);
+    if (x == kBar0 - 1) return 0.5;
+    return x >= kBar0 && x < kBar1 ? 1.0 : 0.0;
+}
+
+Image plate(bool with_front) {
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, Roi{0, 0, kW, kH});
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const double c = with_front ? coverage(x, y) : 0.0;
+            for (int ch = 0; ch < 3; ++ch) img.at(ch, x, y) = float(c * kFrontGrey + (1 - c) * back_grey(y));
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = float(c * kFront + (1 - c) * kBack);  // a renderer's filtered Z
+        }
+    return img;
+}
+
+// A 50 mm thin lens on a 36 mm sensor focused at `focus`, its f-number
+// blurring depth `blurred` by `radius` px; the camera of its flags.
+std::pair<Camera, BlurField> thin_lens(double focus, double blurred, double radius) {
+    ThinLens lens;
+    lens.focal_length_mm = 50, lens.sensor_width_mm = 36, lens.focus_distance = focus, lens.image_width_px = kW;
+    lens.f_number = 1.0;
+    lens.f_number = lens.coc_radius_px(blurred) / radius;
+    LensOverrides lo;
+    lo.focal_length_mm = lens.focal_length_mm, lo.sensor_width_mm = lens.sensor_width_mm;
+    lo.f_number = lens.f_number, lo.focus_distance = lens.focus_distance;
+    return {resolve_camera(Metadata{}, Roi{0, 0, kW, kH}, lo).value(), BlurField::from_thin_lens(lens).value()};
+}
+
+}  // namespace
+
+TEST(sharp_fronts, AFocusedFrontsEdgePixelsShowTheBlurredBackground) {
+    // Focused on the front; the background blurred by 6 px.
+    const auto [cam, field] = thin_lens(kFront, kBack, 6.0);
+
+    ImageSet with, without;
+    with.parts.emplace_back(plate(true));
+    without.parts.emplace_back(plate(false));
+    DefocusStats stats;
+    auto out = defocus(with, field, cam, {}, &stats);
+    ASSERT_TRUE(out) << out.message();
+    auto back = defocus(without, field, cam, {});
+    ASSERT_TRUE(back) << back.message();
+    const Image& R = out->flat(0);
+    const Image& B = back->flat(0);
+    // Every edge pixel of the front is split (about 2 per row).
+    EXPECT_GE(stats.depth.sharp_fronts, std::size_t(2 * kH - 8)) << stats.depth.report();
+
+    // Rows away from the top and bottom (the frame's edge).
+    double err = 0, sharp_err = 0;
+    int n = 0;
+    for (int y = 8; y < kH - 8; ++y)
+        for (int x : {kBar0 - 1, kBar1}) {
+            const double c = coverage(x, y);
+            const double expected = c * kFrontGrey + (1 - c) * B.at(1, x, y);
+            err += std::abs(R.at(1, x, y) - expected);
+            // What the pixel kept whole at the front's depth shows: its
+            // background's share sharp.
+            sharp_err += std::abs(c * kFrontGrey + (1 - c) * back_grey(y) - expected);
+            ++n;
+        }
+    err /= n;
+    sharp_err /= n;
+    std::printf("[ measured ] edge pixels: mean |error| %.4f against the blurred reference (kept whole: %.4f; "
+                "stripes' contrast 0.6); %zu split\n",
+                err, sharp_err, stats.depth.sharp_fronts);
+    EXPECT_LT(err, 0.05 * 0.6) << "within 5% of the stripes' contrast";
+    EXPECT_LT(err, sharp_err / 4);
+    // The front itself stays sharp: its pixels keep their grey.
+    for (int y = 8; y < kH - 8; ++y)
+        for (int x = kBar0; x < kBar1; ++x) EXPECT_NEAR(R.at(1, x, y), kFrontGrey, 0.01) << x << "," << y;
+}
+
+TEST(sharp_fronts, ABlurredFrontsEdgePixelsAreNotSplit) {
+    // Focused on the background: the front blurs more, and its edge pixels
+    // stay whole at its depth (plate.h step 4).
+    const auto [cam, field] = thin_lens(kBack, kFront, 6.0);
+    ImageSet with;
+    with.parts.emplace_back(plate(true));
+    DefocusStats stats;
+    auto out = defocus(with, field, cam, {}, &stats);
+    ASSERT_TRUE(out) << out.message();
+    EXPECT_GE(stats.depth.mixed, std::size_t(2 * kH - 8));
+    EXPECT_EQ(stats.depth.sharp_fronts, 0u);
+}
