@@ -164,7 +164,8 @@ Result<PlateDepth> prepare(const Image& plate, int depth_channel, const DepthDec
             // A filled hole is decided by step 5 alone.
             std::erase_if(steps, [&](const MixedStep& m) { return was_hole[m.index] != 0; });
         }
-        out.front_mixed = front_parts(out.depth, steps, was_hole, W, H, options.continuity, rgb);
+        out.front_mixed = front_parts(out.depth, steps, was_hole, W, H, options.continuity, rgb,
+                                      ix.a >= 0 ? plate.plane(ix.a) : nullptr);
     }
     for (float d : out.depth)
         if (std::isinf(d)) ++out.stats.sky;

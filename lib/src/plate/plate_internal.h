@@ -107,13 +107,15 @@ void unmix(MixedPixel& m, const float pixel[3], const double fg[3], const double
 
 // Step 4's moved pixels as parts (sharp_fronts.cpp): each one's foreground
 // and background colour from the nearest measured (not was_hole; may be
-// empty: none), unmoved pixels of each side in its 5x5 window, its share
-// from its colour; none where the colours cannot tell or the pixel is
-// nearly all foreground (as moved). Its depth stays the foreground's;
-// bg_depth is the background side's mean.
+// empty: none), opaque, unmoved pixels of each side in its 5x5 window, its
+// share from its colour; none where the colours cannot tell, the pixel is
+// nearly all foreground (as moved) or not opaque (`alpha`, may be null: all
+// opaque). Its depth stays the foreground's; bg_depth is the background
+// side's mean.
+inline constexpr float kOpaque = 0.999f;
 std::vector<MixedPixel> front_parts(const std::vector<float>& depth, const std::vector<MixedStep>& steps,
                                     const std::vector<unsigned char>& was_hole, int width, int height,
-                                    double continuity, const float* const rgb[3]);
+                                    double continuity, const float* const rgb[3], const float* alpha);
 
 // Holes at silhouettes: a sensor loses the pixels next to a depth step (the
 // projector's shadow on the far side, flying pixels filtered out), and those

@@ -16,13 +16,17 @@ namespace plate_detail {
 
 std::vector<MixedPixel> front_parts(const std::vector<float>& depth, const std::vector<MixedStep>& steps,
                                     const std::vector<unsigned char>& was_hole, int W, int H, double continuity,
-                                    const float* const rgb[3]) {
+                                    const float* const rgb[3], const float* alpha) {
     std::vector<MixedPixel> out;
     if (!rgb[0] || !rgb[1] || !rgb[2] || steps.empty()) return out;
+    // Only opaque pixels: a pixel partly transparent (an element's edge over
+    // nothing) is its front's coverage already, with no background to blur.
+    auto opaque = [alpha](std::size_t j) { return !alpha || alpha[j] >= kOpaque; };
     std::vector<unsigned char> moved(depth.size(), 0);
     for (const MixedStep& m : steps) moved[m.index] = 1;
     constexpr int kR = 2;  // a 5x5 window
     for (const MixedStep& st : steps) {
+        if (!opaque(st.index)) continue;
         const int x = int(st.index % std::size_t(W)), y = int(st.index / std::size_t(W));
         // Each side's measured, unmoved pixels nearest to this one: within
         // `continuity` of the nearer depth it lay between, or of the farther
@@ -33,7 +37,7 @@ std::vector<MixedPixel> front_parts(const std::vector<float>& depth, const std::
             for (int xx = std::max(0, x - kR); xx <= std::min(W - 1, x + kR); ++xx) {
                 const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
                 const float q = depth[j];
-                if (moved[j] || std::isnan(q) || (!was_hole.empty() && was_hole[j])) continue;
+                if (moved[j] || std::isnan(q) || (!was_hole.empty() && was_hole[j]) || !opaque(j)) continue;
                 const bool is_fg = double(q) <= double(st.near) * continuity;
                 const bool is_bg = double(q) * continuity >= double(st.far) && double(q) <= double(st.far) * continuity;
                 if (is_fg == is_bg) continue;

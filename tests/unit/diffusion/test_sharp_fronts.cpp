@@ -33,13 +33,14 @@ double coverage(int x, int y) {
     return x >= kBar0 && x < kBar1 ? 1.0 : 0.0;
 }
 
-Image plate(bool with_front) {
+Image plate(bool with_front, float edge_alpha = 1.0f) {
     Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, Roi{0, 0, kW, kH});
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             const double c = with_front ? coverage(x, y) : 0.0;
-            for (int ch = 0; ch < 3; ++ch) img.at(ch, x, y) = float(c * kFrontGrey + (1 - c) * back_grey(y));
-            img.at(3, x, y) = 1.0f;
+            const float a = c > 0.0 && c < 1.0 ? edge_alpha : 1.0f;  // premultiplied
+            for (int ch = 0; ch < 3; ++ch) img.at(ch, x, y) = a * float(c * kFrontGrey + (1 - c) * back_grey(y));
+            img.at(3, x, y) = a;
             img.at(4, x, y) = float(c * kFront + (1 - c) * kBack);  // a renderer's filtered Z
         }
     return img;
@@ -113,4 +114,22 @@ TEST(sharp_fronts, ABlurredFrontsEdgePixelsAreNotSplit) {
     ASSERT_TRUE(out) << out.message();
     EXPECT_GE(stats.depth.mixed, std::size_t(2 * kH - 8));
     EXPECT_EQ(stats.depth.sharp_fronts, 0u);
+}
+
+TEST(sharp_fronts, EdgePixelsThatAreNotOpaqueAreNotSplit) {
+    // The same plate whose edge pixels are partly transparent (a matted
+    // element's edge): their alpha is the element's coverage already, and a
+    // split would count it twice. They stay whole, and keep their alpha.
+    const auto [cam, field] = thin_lens(kFront, kBack, 6.0);
+    ImageSet with;
+    with.parts.emplace_back(plate(true, 0.7f));
+    DefocusStats stats;
+    auto out = defocus(with, field, cam, {}, &stats);
+    ASSERT_TRUE(out) << out.message();
+    EXPECT_GE(stats.depth.mixed, std::size_t(2 * kH - 8));
+    EXPECT_EQ(stats.depth.sharp_fronts, 0u);
+    const Image& R = out->flat(0);
+    const int a = R.channel_index("A");
+    ASSERT_GE(a, 0);
+    for (int y = 8; y < kH - 8; y += 9) EXPECT_NEAR(R.at(a, kBar0 + 4, y), 1.0f, 1e-4) << "the front is opaque";
 }
