@@ -5,7 +5,8 @@
 // the foreground, whose blur must carry it (left between, it would land in a
 // slice of its own, with a blur that neither surface has). Splitting it into
 // a foreground share and a background part instead measured worse at every
-// depth edge of the benchmark (docs/diffusion.md, "Mixed pixels").
+// depth edge of the benchmark (docs/diffusion.md, "Mixed pixels"), except at
+// the edge of a front sharper than its background (sharp_fronts.cpp).
 //
 // Candidates (for speckle removal, which leaves them alone) are sandwiched:
 // an adjacent pixel nearer and one farther than it by more than `continuity`
@@ -143,7 +144,6 @@ std::vector<unsigned char> mixed_candidates(const std::vector<float>& depth, int
     }, 16);
     return cand;
 }
-
 
 namespace {
 
