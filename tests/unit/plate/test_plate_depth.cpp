@@ -436,24 +436,34 @@ TEST(plate_depth, MixedSilhouettePixelsTakeTheNearerSurfacesDepth) {
     EXPECT_FLOAT_EQ(po->depth[std::size_t(kH / 2) * kW + 80], img.at(4, 80, kH / 2));
 }
 
+// A silhouette: a red foreground (depth 2) left of column 80, a green checked
+// background (6) right of it; column 80 is covered silhouette_share(y) by the
+// foreground, its colour the mix (or all foreground colour with
+// same_colours). Z comes from z(x, y, coverage).
+double silhouette_share(int y) { return 0.05 + 0.9 * y / double(kH - 1); }
+template <class ZOf>
+Image silhouette_plate(ZOf z, bool same_colours = false) {
+    const float fg[3] = {0.8f, 0.1f, 0.1f};
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const double b = x < 80 ? 1.0 : x > 80 ? 0.0 : silhouette_share(y);
+            const bool check = ((x / 6) + (y / 6)) % 2 == 0;
+            for (int c = 0; c < 3; ++c) {
+                const float back = same_colours ? fg[c] : c == 1 ? (check ? 0.5f : 0.35f) : 0.05f;
+                img.at(c, x, y) = float(b * fg[c] + (1 - b) * back);
+            }
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = z(x, y, b);
+        }
+    return img;
+}
+
 // A renderer's filtered Z at a silhouette (no holes): the mixed pixel moves to
 // the foreground, and its parts (the foreground's share, each side's colour)
 // come from its colour for the defocus to split where the front is sharper.
 TEST(plate_depth, MixedSilhouettePixelsKeepTheirPartsFromTheirColour) {
-    auto beta = [](int y) { return 0.05 + 0.9 * y / double(kH - 1); };
-    const float fg[3] = {0.8f, 0.1f, 0.1f};
-    auto bg = [](int x, int y, int c) {
-        const bool check = ((x / 6) + (y / 6)) % 2 == 0;
-        return c == 1 ? (check ? 0.5f : 0.35f) : 0.05f;
-    };
-    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            const double b = x < 80 ? 1.0 : x > 80 ? 0.0 : beta(y);
-            for (int c = 0; c < 3; ++c) img.at(c, x, y) = float(b * fg[c] + (1 - b) * bg(x, y, c));
-            img.at(3, x, y) = 1.0f;
-            img.at(4, x, y) = float(b * 2.0 + (1 - b) * 6.0);
-        }
+    const Image img = silhouette_plate([](int, int, double b) { return float(b * 2.0 + (1 - b) * 6.0); });
     auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
     ASSERT_TRUE(pd) << pd.message();
     EXPECT_FALSE(pd->has_mixed()) << "nothing is split before the blur is known";
@@ -461,11 +471,15 @@ TEST(plate_depth, MixedSilhouettePixelsKeepTheirPartsFromTheirColour) {
     std::size_t k = 0;
     for (int y = 0; y < kH; ++y) {
         const std::size_t i = std::size_t(y) * kW + 80;
-        const double b = beta(y);
-        if (b > 0.08 && b < 0.92) EXPECT_FLOAT_EQ(pd->depth[i], 2.0f) << y << ": moved to the nearer surface";
+        const double b = silhouette_share(y);
+        if (b > 0.08 && b < 0.92) {
+            EXPECT_FLOAT_EQ(pd->depth[i], 2.0f) << y << ": moved to the nearer surface";
+        }
         while (k < pd->front_mixed.size() && pd->front_mixed[k].index < i) ++k;
         const MixedPixel* m = k < pd->front_mixed.size() && pd->front_mixed[k].index == i ? &pd->front_mixed[k] : nullptr;
-        if (b >= 0.92) EXPECT_EQ(m, nullptr) << y << ": all foreground stays whole";
+        if (b >= 0.92) {
+            EXPECT_EQ(m, nullptr) << y << ": all foreground stays whole";
+        }
         if (!(b > 0.15 && b < 0.85)) continue;
         ++checked;
         if (!m) continue;
@@ -510,38 +524,19 @@ TEST(plate_depth, MixedSilhouettePixelsKeepTheirPartsFromTheirColour) {
 // a step): the fill alone makes each all foreground or all background. Its
 // colour between the two sides' says how much of each it shows.
 TEST(plate_depth, HolesAtASilhouetteAreDecidedByTheirColour) {
-    // Red foreground (depth 2) left of column 80, a green checked background
-    // (6) right of it; column 80 is covered beta by the foreground (its
-    // colour the mix), and the sensor lost it, and columns 81 and 82 on
-    // every other row.
-    auto beta = [](int y) { return 0.05 + 0.9 * y / double(kH - 1); };
-    const float fg[3] = {0.8f, 0.1f, 0.1f};
-    auto bg = [](int x, int y, int c) {
-        const bool check = ((x / 6) + (y / 6)) % 2 == 0;
-        return c == 1 ? (check ? 0.5f : 0.35f) : 0.05f;
+    // The silhouette plate, whose sensor lost column 80, and columns 81 and
+    // 82 on every other row.
+    auto sensor_z = [](int x, int y, double) {
+        const bool lost = x == 80 || ((x == 81 || x == 82) && y % 2 == 0);
+        return lost ? 0.0f : x < 80 ? 2.0f : 6.0f;
     };
-    auto lost = [](int x, int y) { return x == 80 || ((x == 81 || x == 82) && y % 2 == 0); };
-    auto make = [&](bool same_colours) {
-        Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const double b = x < 80 ? 1.0 : x > 80 ? 0.0 : beta(y);
-                for (int c = 0; c < 3; ++c) {
-                    const float back = same_colours ? fg[c] : bg(x, y, c);
-                    img.at(c, x, y) = float(b * fg[c] + (1 - b) * back);
-                }
-                img.at(3, x, y) = 1.0f;
-                img.at(4, x, y) = lost(x, y) ? 0.0f : x < 80 ? 2.0f : 6.0f;
-            }
-        return img;
-    };
-    const Image img = make(false);
+    const Image img = silhouette_plate(sensor_z);
     auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
     ASSERT_TRUE(pd) << pd.message();
     EXPECT_GT(pd->stats.silhouette_holes, std::size_t(kH));
     std::size_t split = 0, near_share = 0, checked = 0;  // checked: rows with a share in (0.15, 0.85)
     for (int y = 3; y < kH - 3; ++y) {
-        const double b = beta(y);
+        const double b = silhouette_share(y);
         const std::size_t i = std::size_t(y) * kW + 80;
         const MixedPixel* m = pd->mixed_at(i);
         if (b > 0.15 && b < 0.85) {
@@ -569,7 +564,7 @@ TEST(plate_depth, HolesAtASilhouetteAreDecidedByTheirColour) {
 
     // The same plate with a background of the foreground's colour: nothing to
     // tell the sides apart by, so the fill stays and nothing is split.
-    auto same = prepare_plate_depth(make(true), 4, DepthDecode{}, flags_camera());
+    auto same = prepare_plate_depth(silhouette_plate(sensor_z, true), 4, DepthDecode{}, flags_camera());
     ASSERT_TRUE(same) << same.message();
     EXPECT_EQ(same->stats.silhouette_holes, 0u);
     EXPECT_FALSE(same->has_mixed());
