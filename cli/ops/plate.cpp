@@ -105,7 +105,12 @@ void do_probe(Frame& f, const Step& s) {
     o << "pixel " << x << "," << y << ": depth " << p->depth;
     if (camera) o << ", world (" << p->position.x << ", " << p->position.y << ", " << p->position.z << ")";
     if (field) o << ", blur " << p->blur_px << " px";
-    if (p->mixed) o << ", a split silhouette pixel";
+    if (p->mixed) {  // what the defocus blurs apart there
+        o << ", a split silhouette pixel: " << p->fg_share << " foreground at depth " << p->fg_depth;
+        if (field) o << " (blur " << p->fg_blur_px << " px)";
+        o << ", the rest at depth " << p->bg_depth;
+        if (field) o << " (blur " << p->bg_blur_px << " px)";
+    }
     if (!missing.empty()) o << " (" << missing << ")";
     o << "\n";
     std::cout << o.str();

@@ -291,12 +291,25 @@ void register_defocus(nb::module_& m) {
         .def_prop_ro("position", [](const PixelProbe& p) { return nb::make_tuple(p.position.x, p.position.y, p.position.z); },
                      "world position (NaN without a camera)")
         .def_ro("blur_px", &PixelProbe::blur_px, "blur radius in pixels (NaN without a camera and a lens or field)")
-        .def_ro("mixed", &PixelProbe::mixed, "a split silhouette pixel")
+        .def_ro("mixed", &PixelProbe::mixed,
+                "a silhouette pixel the defocus splits into a foreground and a background part (step 4's only "
+                "with a lens or field)")
+        .def_ro("fg_share", &PixelProbe::fg_share, "a split pixel's foreground share (else NaN)")
+        .def_ro("fg_depth", &PixelProbe::fg_depth, "a split pixel's foreground depth (else NaN)")
+        .def_ro("bg_depth", &PixelProbe::bg_depth, "a split pixel's background depth (else NaN)")
+        .def_ro("fg_blur_px", &PixelProbe::fg_blur_px, "a split pixel's foreground blur radius (else NaN)")
+        .def_ro("bg_blur_px", &PixelProbe::bg_blur_px, "a split pixel's background blur radius (else NaN)")
         .def("__repr__", [](const PixelProbe& p) {
-            char b[256];
-            std::snprintf(b, sizeof b, "PixelProbe(x=%d, y=%d, depth=%g, position=(%g, %g, %g), blur_px=%g%s)", p.x, p.y,
-                          p.depth, p.position.x, p.position.y, p.position.z, p.blur_px, p.mixed ? ", mixed=True" : "");
-            return std::string(b);
+            char b[320];
+            std::snprintf(b, sizeof b, "PixelProbe(x=%d, y=%d, depth=%g, position=(%g, %g, %g), blur_px=%g", p.x, p.y,
+                          p.depth, p.position.x, p.position.y, p.position.z, p.blur_px);
+            std::string r = b;
+            if (p.mixed) {
+                std::snprintf(b, sizeof b, ", mixed=True, fg_share=%g, fg_depth=%g, bg_depth=%g", p.fg_share,
+                              p.fg_depth, p.bg_depth);
+                r += b;
+            }
+            return r + ")";
         });
 
     m.def("probe",

@@ -22,6 +22,14 @@ float colour(int x, int y, int c, int view) {
 }
 float depth(int x, int, int view) { return x >= 20 && x < 30 ? 2.0f : 5.0f + float(view); }
 
+// The thin lens of kLens's focal length and sensor at an f-number and focus.
+gdof::ThinLens lens_of(double f_number, double focus_distance) {
+    gdof::ThinLens l;
+    l.focal_length_mm = 35, l.sensor_width_mm = 36, l.f_number = f_number, l.focus_distance = focus_distance;
+    l.image_width_px = kW;
+    return l;
+}
+
 struct PartDesc {
     std::string name, view;
     std::vector<std::string> channels;
@@ -171,8 +179,7 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
     OIIO::ImageSpec spec;
     auto px = read_pixels(dir.file("b.exr"), &spec);
     const int b = spec.channelindex("blur");
-    gdof::ThinLens l;
-    l.focal_length_mm = 35, l.sensor_width_mm = 36, l.f_number = 1, l.focus_distance = 5, l.image_width_px = kW;
+    const gdof::ThinLens l = lens_of(1, 5);
     // Sharp on the wall, the bar blurred as a lens focused at 5 blurs it.
     EXPECT_NEAR(px[(std::size_t(10) * kW + 50) * spec.nchannels + b], 0.0, 1e-4);
     EXPECT_NEAR(px[(std::size_t(10) * kW + 25) * spec.nchannels + b], l.coc_radius_px(2.0), 1e-3);
@@ -228,8 +235,7 @@ TEST(cli_plates, ProbeTellsTheDepthBeforeAnyLensIsGiven) {
         << focal.output << " expected " << world;
     auto full = run_gdof(quote(plate) + kLens + " --probe 25,20");
     ASSERT_EQ(full.exit_code, 0) << full.output;
-    gdof::ThinLens l;
-    l.focal_length_mm = 35, l.sensor_width_mm = 36, l.f_number = 1, l.focus_distance = 3, l.image_width_px = kW;
+    const gdof::ThinLens l = lens_of(1, 3);
     const std::size_t b = full.output.find("blur ");
     ASSERT_NE(b, std::string::npos) << full.output;
     EXPECT_TRUE(contains(full.output, "pixel 25,20: depth 2, ")) << full.output;
@@ -239,6 +245,38 @@ TEST(cli_plates, ProbeTellsTheDepthBeforeAnyLensIsGiven) {
     auto range = run_gdof(quote(plate) + " --depth-range --probe 45,20");
     EXPECT_EQ(range.exit_code, 1);
     EXPECT_TRUE(contains(range.output, "needs a camera") && contains(range.output, "--focal-length-mm")) << range.output;
+}
+
+TEST(cli_plates, ProbeShowsASilhouettePixelTheDefocusSplits) {
+    // The bar's right edge pixel (column 30) is 0.4 bar, 0.6 wall, with a
+    // renderer's filtered Z. Focused on the bar, the defocus splits it (the
+    // wall's share blurs with the wall) and the probe says into what;
+    // focused on the wall, it stays whole and the probe says nothing of it.
+    ScratchDir dir;
+    const std::string plate = dir.file("edge.exr");
+    constexpr float kShare = 0.4f;
+    write_exr(plate, kW, kH, {"R", "G", "B", "A", "Z"}, [](int x, int, int c) {
+        const float bar = c == 0 ? 1.0f : 0.0f, wall = 0.3f;
+        if (c == 3) return 1.0f;
+        if (x == 30) return c < 3 ? kShare * bar + (1 - kShare) * wall : kShare * 2.0f + (1 - kShare) * 5.0f;
+        return c < 3 ? (x >= 20 && x < 30 ? bar : wall) : (x >= 20 && x < 30 ? 2.0f : 5.0f);
+    });
+    // f/0.1: the wall blurred by 3.3 px at this size.
+    const std::string lens = " --focal-length-mm 35 --sensor-width-mm 36 --f-number 0.1 --focus-distance ";
+    auto on_bar = run_gdof(quote(plate) + lens + "2 --probe 30,20");
+    ASSERT_EQ(on_bar.exit_code, 0) << on_bar.output;
+    const gdof::ThinLens l = lens_of(0.1, 2);
+    const std::size_t at = on_bar.output.find("a split silhouette pixel: ");
+    ASSERT_NE(at, std::string::npos) << on_bar.output;
+    EXPECT_NEAR(std::stod(on_bar.output.substr(at + 26)), kShare, 0.05) << on_bar.output;
+    char parts[160];
+    std::snprintf(parts, sizeof parts, " foreground at depth 2 (blur 0 px), the rest at depth 5 (blur %g px)",
+                  l.coc_radius_px(5.0));
+    EXPECT_TRUE(contains(on_bar.output, parts)) << on_bar.output << " expected " << parts;
+    auto on_wall = run_gdof(quote(plate) + lens + "5 --probe 30,20");
+    ASSERT_EQ(on_wall.exit_code, 0) << on_wall.output;
+    EXPECT_TRUE(contains(on_wall.output, "pixel 30,20: depth ")) << on_wall.output;
+    EXPECT_FALSE(contains(on_wall.output, "split")) << on_wall.output;
 }
 
 TEST(cli_plates, RealRgbdFramesInOneCommand) {

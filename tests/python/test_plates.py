@@ -63,6 +63,34 @@ def test_probe_equals_cli_and_needs_no_lens(cli, scene):
         gdof.probe(plate, 80, 45, depth_channel="Q")
 
 
+def test_probe_gives_the_parts_the_defocus_splits(cli, tmp_path):
+    # A bar's anti-aliased right edge (0.4 bar, 0.6 wall) with a renderer's
+    # filtered Z. Focused on the bar the defocus splits it: probe() gives its
+    # parts as --probe prints them; focused on the wall it stays whole.
+    h, w, share = 48, 64, 0.4
+    xx = np.mgrid[0:h, 0:w][1]
+    bar, edge = (xx >= 20) & (xx < 30), xx == 30
+    red = np.where(bar, 1.0, np.where(edge, share + (1 - share) * 0.3, 0.3))
+    grey = np.where(bar, 0.0, np.where(edge, (1 - share) * 0.3, 0.3))
+    z = np.where(bar, 2.0, np.where(edge, share * 2.0 + (1 - share) * 5.0, 5.0))
+    plate = gdof.Image.from_array(np.stack([red, grey, grey, np.ones_like(z), z]).astype(np.float32),
+                                  ["R", "G", "B", "A", "Z"])
+    gdof.write_image(str(tmp_path / "edge.exr"), plate)
+    lens = dict(focal_length_mm=35, sensor_width_mm=36, f_number=0.1)
+    p = gdof.probe(plate, 30, 20, focus_distance=2, **lens)
+    line = run_cli(cli, tmp_path / "edge.exr", "--focal-length-mm", "35", "--sensor-width-mm", "36", "--f-number",
+                   "0.1", "--focus-distance", "2", "--probe", "30,20").stdout
+    m = re.search(r"split silhouette pixel: (\S+) foreground at depth (\S+) \(blur (\S+) px\), "
+                  r"the rest at depth (\S+) \(blur (\S+) px\)", line)
+    assert m, line
+    assert p.mixed
+    assert [p.fg_share, p.fg_depth, p.fg_blur_px, p.bg_depth, p.bg_blur_px] == pytest.approx(
+        [float(v) for v in m.groups()], rel=1e-5, abs=1e-6)
+    assert p.fg_share == pytest.approx(share, abs=0.05) and p.bg_blur_px > 3 * p.fg_blur_px + 0.5
+    whole = gdof.probe(plate, 30, 20, focus_distance=5, **lens)
+    assert not whole.mixed and math.isnan(whole.fg_share) and math.isnan(whole.bg_blur_px)
+
+
 def test_attach_depth_equals_cli_depth_file(cli, tmp_path):
     # An RGBA plate and a depth map of its own (uint16-like counts in a
     # float EXR), attached: the same result as the CLI's --depth.

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -128,6 +129,8 @@ struct GDOF_API PlateDepth {
     bool has_mixed() const { return !mixed.empty(); }
     // The split of pixel `index`, or nullptr when it is not mixed.
     const MixedPixel* mixed_at(std::size_t index) const;
+    // Pixel `index`'s entry of front_mixed, or nullptr.
+    const MixedPixel* front_mixed_at(std::size_t index) const;
 };
 
 // Decodes channel `depth_channel` of `plate` (resolving a disparity decode
@@ -149,6 +152,11 @@ GDOF_API Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_ch
 // A front counts as sharper than its background when their blur radii
 // differ by more than this, px.
 inline constexpr double kSharpFrontPx = 0.5;
+// Whether a step-4 pixel is split: its background blurs more than its front
+// by more than min_dr px (false when either radius is NaN).
+inline bool front_is_sharper(double front_radius, double bg_radius, double min_dr = kSharpFrontPx) {
+    return bg_radius - front_radius > min_dr;
+}
 
 // Splits each of pd.front_mixed whose background blurs more than its front
 // by more than min_dr px (bg_radius[k], px, for front_mixed[k]; `radius`
@@ -211,7 +219,15 @@ struct PixelProbe {
     double depth = 0;       // NaN: no depth there; +inf: sky
     Vec3 position;          // world position at the pixel centre (NaN when no finite depth or no camera)
     double blur_px = 0;     // the field's blur radius there (NaN when no depth or no field)
-    bool mixed = false;     // a split silhouette pixel (a filled hole at a silhouette, step 5)
+    // A silhouette pixel the defocus splits into a foreground and a
+    // background part: a filled hole at a silhouette (step 5), or a mixed
+    // pixel at the edge of a front sharper than its background (step 4,
+    // known only with a camera and a field). Its parts' share, depths and
+    // blurs (NaN when not split; blurs NaN with no field).
+    bool mixed = false;
+    double fg_share = std::numeric_limits<double>::quiet_NaN();
+    double fg_depth = std::numeric_limits<double>::quiet_NaN(), bg_depth = std::numeric_limits<double>::quiet_NaN();
+    double fg_blur_px = std::numeric_limits<double>::quiet_NaN(), bg_blur_px = std::numeric_limits<double>::quiet_NaN();
 };
 GDOF_API Result<PixelProbe> probe_pixel(const PlateDepth& depth, const Camera& camera, const BlurField& field, int x, int y,
                                         int r = 2);

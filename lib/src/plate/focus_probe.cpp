@@ -125,17 +125,36 @@ Result<PixelProbe> probe_pixel(const PlateDepth& pd, const Camera* camera, const
     p.x = x, p.y = y;
     p.depth = depth_at(pd, x, y, r);
     const std::size_t i = std::size_t(y - pd.window.y0) * std::size_t(pd.window.width()) + std::size_t(x - pd.window.x0);
-    p.mixed = pd.mixed_at(i) != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     p.position = camera && std::isfinite(p.depth) ? camera->unproject(x + 0.5, y + 0.5, p.depth) : Vec3{nan, nan, nan};
-    p.blur_px = nan;
-    if (camera && field && !std::isnan(p.depth)) {
-        const PixelDepth s{x + 0.5, y + 0.5, p.depth};
+    // The field's blur at the pixel's centre at `depth` (NaN when unknown).
+    auto blur_at = [&](double depth, double& out) {
+        out = nan;
+        if (!camera || !field || std::isnan(depth)) return Status::ok();
+        const PixelDepth s{x + 0.5, y + 0.5, depth};
         float blur = 0;
         if (Status st = field->evaluate(*camera, std::span<const PixelDepth>(&s, 1), std::span<float>(&blur, 1)); !st)
             return st.prefix("probe");
-        p.blur_px = blur;
-    }
+        out = blur;
+        return Status::ok();
+    };
+    if (Status st = blur_at(p.depth, p.blur_px); !st) return st;
+    // A split silhouette pixel: step 5's (its own depth the background's), or
+    // step 4's (its own depth the front's) where the defocus will split it.
+    const MixedPixel* hole = pd.mixed_at(i);
+    const MixedPixel* m = hole ? hole : pd.front_mixed_at(i);
+    if (!m) return p;
+    const double bg_depth = hole ? double(pd.depth[i]) : double(m->bg_depth);
+    double fg_blur = nan, bg_blur = nan;
+    if (Status st = blur_at(m->fg_depth, fg_blur); !st) return st;
+    if (Status st = blur_at(bg_depth, bg_blur); !st) return st;
+    if (!hole && !front_is_sharper(fg_blur, bg_blur)) return p;
+    p.mixed = true;
+    p.fg_share = m->fg_share;
+    p.fg_depth = m->fg_depth;
+    p.bg_depth = bg_depth;
+    p.fg_blur_px = fg_blur;
+    p.bg_blur_px = bg_blur;
     return p;
 }
 

@@ -184,10 +184,17 @@ Result<PlateDepth> prepare_plate_depth(const Image& plate, int depth_channel, co
     return prepare(plate, depth_channel, decode, nullptr, options, exec);
 }
 
-const MixedPixel* PlateDepth::mixed_at(std::size_t index) const {
-    auto it = std::lower_bound(mixed.begin(), mixed.end(), index,
+namespace {
+// Entry `index` of a list by increasing index, or nullptr.
+const MixedPixel* find_pixel(const std::vector<MixedPixel>& list, std::size_t index) {
+    auto it = std::lower_bound(list.begin(), list.end(), index,
                                [](const MixedPixel& m, std::size_t i) { return m.index < i; });
-    return it != mixed.end() && it->index == index ? &*it : nullptr;
+    return it != list.end() && it->index == index ? &*it : nullptr;
 }
+}  // namespace
+
+const MixedPixel* PlateDepth::mixed_at(std::size_t index) const { return find_pixel(mixed, index); }
+
+const MixedPixel* PlateDepth::front_mixed_at(std::size_t index) const { return find_pixel(front_mixed, index); }
 
 }  // namespace gdof

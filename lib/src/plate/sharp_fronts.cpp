@@ -79,7 +79,7 @@ std::size_t split_sharp_fronts(PlateDepth& pd, std::span<float> radius, std::vec
     std::size_t a = 0, n = 0;
     for (std::size_t k = 0; k < front.size(); ++k) {
         const std::size_t i = front[k].index;
-        if (!(double(bg_radius[k]) - double(radius[i]) > min_dr)) continue;
+        if (!front_is_sharper(radius[i], bg_radius[k], min_dr)) continue;
         for (; a < pd.mixed.size() && pd.mixed[a].index < i; ++a) {
             mixed.push_back(pd.mixed[a]);
             rf.push_back(fg_radius[a]);

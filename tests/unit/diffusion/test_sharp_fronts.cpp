@@ -133,3 +133,45 @@ TEST(sharp_fronts, EdgePixelsThatAreNotOpaqueAreNotSplit) {
     ASSERT_GE(a, 0);
     for (int y = 8; y < kH - 8; y += 9) EXPECT_NEAR(R.at(a, kBar0 + 4, y), 1.0f, 1e-4) << "the front is opaque";
 }
+
+TEST(sharp_fronts, AProbeShowsThePixelsTheDefocusSplits) {
+    // --probe on a front's edge: where the defocus splits (focused on the
+    // front), the probe says so with the pixel's coverage and each part's
+    // depth and blur, on the same pixels as the defocus counts; focused on
+    // the background, or with no lens to know the blur, it does not.
+    const auto [cam, field] = thin_lens(kFront, kBack, 6.0);
+    ImageSet with;
+    with.parts.emplace_back(plate(true));
+    DefocusStats stats;
+    ASSERT_TRUE(defocus(with, field, cam, {}, &stats));
+    auto pd = prepare_plate_depth(with.flat(0), 4, DepthDecode{}, cam);
+    ASSERT_TRUE(pd) << pd.message();
+    std::size_t split = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            auto p = probe_pixel(*pd, cam, field, x, y);
+            ASSERT_TRUE(p) << p.message();
+            if (!p->mixed) continue;
+            ++split;
+            EXPECT_TRUE(x == kBar0 - 1 || x == kBar1) << x << "," << y << ": only the front's edge";
+            EXPECT_NEAR(p->fg_share, coverage(x, y), 0.05) << x << "," << y;
+            EXPECT_FLOAT_EQ(p->fg_depth, kFront) << x << "," << y;
+            EXPECT_FLOAT_EQ(p->bg_depth, kBack) << x << "," << y;
+            EXPECT_NEAR(p->fg_blur_px, 0.0, 1e-3) << x << "," << y;
+            EXPECT_NEAR(p->bg_blur_px, 6.0, 1e-3) << x << "," << y;
+        }
+    EXPECT_EQ(split, stats.depth.sharp_fronts) << "the probe and the defocus split the same pixels";
+
+    const auto [cam_back, field_back] = thin_lens(kBack, kFront, 6.0);
+    auto on_back = prepare_plate_depth(with.flat(0), 4, DepthDecode{}, cam_back);
+    ASSERT_TRUE(on_back) << on_back.message();
+    for (int y = 8; y < kH - 8; y += 7) {
+        auto p = probe_pixel(*on_back, cam_back, field_back, kBar1, y);
+        ASSERT_TRUE(p) << p.message();
+        EXPECT_FALSE(p->mixed) << y << ": the front blurs more; the pixel stays whole";
+        EXPECT_TRUE(std::isnan(p->fg_share)) << y;
+        auto bare = probe_pixel(*pd, nullptr, nullptr, kBar1, y);
+        ASSERT_TRUE(bare) << bare.message();
+        EXPECT_FALSE(bare->mixed) << y << ": without a blur, a step-4 pixel is not known to split";
+    }
+}

@@ -362,7 +362,9 @@ TEST(layers_from_depth_map, ContinuedSurfacesCarryTheNearerFloorNotThePole) {
     // No pole in the far slice: nothing of its colour anywhere there.
     for (int y = far.data_window().y0; y < far.data_window().y1; ++y)
         for (int x = far.data_window().x0; x < far.data_window().x1; ++x) {
-            if (pole(x, y)) EXPECT_NE(far.at(0, x, y), 0.9f) << x << "," << y;
+            if (pole(x, y)) {
+                EXPECT_NE(far.at(0, x, y), 0.9f) << x << "," << y;
+            }
         }
     // The source gives the same layers.
     auto src = depth_map_layer_source(img, o);
