@@ -927,7 +927,29 @@ class PixelProbe:
 
     @property
     def mixed(self) -> bool:
-        """a split silhouette pixel"""
+        """
+        a silhouette pixel the defocus splits into a foreground and a background part (step 4's only with a lens or field)
+        """
+
+    @property
+    def fg_share(self) -> float:
+        """a split pixel's foreground share (else NaN)"""
+
+    @property
+    def fg_depth(self) -> float:
+        """a split pixel's foreground depth (else NaN)"""
+
+    @property
+    def bg_depth(self) -> float:
+        """a split pixel's background depth (else NaN)"""
+
+    @property
+    def fg_blur_px(self) -> float:
+        """a split pixel's foreground blur radius (else NaN)"""
+
+    @property
+    def bg_blur_px(self) -> float:
+        """a split pixel's background blur radius (else NaN)"""
 
     def __repr__(self) -> str: ...
 
