@@ -170,8 +170,13 @@ GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const
 // source.depth_decode, where a depth that is not finite (a hole, sky) is
 // +inf. A mixed pixel goes to its background's slice with the background's
 // colour, and to its foreground's slice with the foreground's colour and
-// share of its alpha (so `over` gives the pixel back exactly). Position
-// channels are carried (without a prepared depth).
+// share of its alpha (so `over` gives the pixel back exactly). A pixel at a
+// silhouette (a neighbour farther by more than `continuity`) that continues
+// the surface of a 4-neighbour in a nearer slice (its anti-aliased edge, a
+// little deeper) goes to that slice: alone in its own, it would be the
+// nearest background to the pixels the surface hides, and continue it there
+// with the surface's colour. Position channels are carried (without a
+// prepared depth).
 //
 // Continued surfaces (continue_surfaces, off by default): every slice also holds, with their own colour, alpha and depth,
 // the pixels of nearer slices that continue its own surface: reached from

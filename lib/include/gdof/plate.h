@@ -25,6 +25,9 @@
 //      `mixed_step`) takes the nearer surface's depth: part of it is the
 //      foreground, whose blur must carry it, and no ring of intermediate
 //      depth (a slice and a blur of its own) appears around a silhouette.
+//      Each is checked again against its neighbours not so moved: one
+//      within 2% of such a neighbour is on its surface and stays (beside
+//      another mixed pixel, whose depth is no surface's).
 //      Its parts (a foreground share and a background part, from its colour
 //      between the two sides') are kept in PlateDepth::front_mixed: where the
 //      blur field makes the front sharper than the background,

@@ -32,6 +32,48 @@ struct PlateSamples {
     }
 };
 
+// A bound between a front's surface and its own edge pixels (anti-aliased
+// ones, a little deeper than the front but within `continuity` of it) would
+// leave those in a farther slice: a sliver that blurs alone and, nearest to
+// the pixels the front hides, continues the background there with the
+// front's colour. Each pixel at a silhouette (a neighbour beyond
+// `continuity`, farther) that continues the surface of a 4-neighbour in a
+// nearer slice joins that slice (the nearest of them). Pixels split in two
+// (fg_slice) stay as they are.
+void edges_join_their_front(FrameBuffer<int>& slice, const FrameBuffer<int>& fg_slice, const std::vector<float>& depth,
+                            int W, int H, double continuity, const Exec& exec) {
+    // Decided on the slices as assigned, written after.
+    std::vector<std::vector<std::pair<std::size_t, int>>> joins(static_cast<std::size_t>(H));
+    parallel_for(exec, H, [&](long y0, long y1) {
+        for (long y = y0; y < y1; ++y)
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+                const int s = slice[i];
+                if (s <= 0 || fg_slice[i] >= 0) continue;
+                // Most pixels: no 4-neighbour in a nearer slice.
+                auto nearer = [&](std::size_t j) { return slice[j] >= 0 && slice[j] < s; };
+                if (!((x > 0 && nearer(i - 1)) || (x + 1 < W && nearer(i + 1)) ||
+                      (y > 0 && nearer(i - std::size_t(W))) || (y + 1 < H && nearer(i + std::size_t(W)))))
+                    continue;
+                const float d = depth[i];
+                int front = s;
+                bool silhouette = false;
+                for (long yy = std::max(0L, y - 1); yy <= std::min(long(H) - 1, y + 1); ++yy)
+                    for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        if (j == i || slice[j] < 0) continue;
+                        const float q = depth[j];
+                        if (double(q) > double(d) * continuity) silhouette = true;
+                        const bool four = xx == x || yy == y;
+                        if (four && slice[j] < front && same_surface(d, q, continuity)) front = slice[j];
+                    }
+                if (silhouette && front < s) joins[std::size_t(y)].emplace_back(i, front);
+            }
+    }, 16);
+    for (const auto& row : joins)
+        for (const auto& [i, s] : row) slice[i] = s;
+}
+
 Status plate_samples(const Image& img, const SliceOptions& o, const float* r, const float* g, const float* b,
                      const float* a, PlateSamples& s, const Exec& exec) {
     const std::size_t n = img.npixels();
@@ -267,6 +309,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
             }
         }
     }, 16);
+    edges_join_their_front(L->slice_, L->fg_slice_, ps.depth, W, H, options.continuity, exec);
 
     // Every slice's box and depth range, and where each pixel is hidden (the
     // slices behind the first that covers it). Bands of rows in parallel,

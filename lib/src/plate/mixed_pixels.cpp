@@ -157,6 +157,45 @@ constexpr double kBetween = 1.02;
 // ramp (twice as much), in log depth.
 constexpr double kRamp = 1.5;
 
+// A pixel beside another mixed pixel sees that one's depth, which is no
+// surface's, as its nearest neighbour (a sphere's pixel next to a pole's
+// anti-aliased edge took the edge's depth, and a blur of no surface there).
+// Each is looked at again among its unmoved neighbours only: one whose depth
+// is within kBetween of one of theirs lies on that surface and stays; the
+// others take the nearest of their unmoved depths that is nearer than their
+// own, where there is one (else the first look's).
+void drop_on_surfaces(std::vector<std::vector<MixedStep>>& rows, const std::vector<float>& depth, int W, int H,
+                      const Exec& exec) {
+    if (std::all_of(rows.begin(), rows.end(), [](const auto& row) { return row.empty(); })) return;
+    std::vector<unsigned char> moved(depth.size(), 0);
+    for (const auto& row : rows)
+        for (const MixedStep& m : row) moved[m.index] = 1;
+    parallel_for(exec, H, [&, W, H](long r0, long r1) {
+        for (long y = r0; y < r1; ++y) {
+            auto& row = rows[std::size_t(y)];
+            std::size_t kept = 0;
+            for (MixedStep m : row) {
+                const int x = int(m.index % std::size_t(W));
+                const double d = depth[m.index];
+                bool on_surface = false;
+                float near = std::numeric_limits<float>::infinity();
+                for (long yy = std::max(0L, y - 1); yy <= std::min(long(H) - 1, y + 1); ++yy)
+                    for (int xx = std::max(0, x - 1); xx <= std::min(W - 1, x + 1); ++xx) {
+                        const std::size_t j = std::size_t(yy) * std::size_t(W) + std::size_t(xx);
+                        const float q = depth[j];
+                        if (moved[j] || !std::isfinite(q)) continue;
+                        if (d <= double(q) * kBetween && double(q) <= d * kBetween) on_surface = true;
+                        if (double(q) * kBetween < d) near = std::min(near, q);
+                    }
+                if (on_surface) continue;
+                if (std::isfinite(near)) m.near = near;
+                row[kept++] = m;
+            }
+            row.resize(kept);
+        }
+    }, 16);
+}
+
 }  // namespace
 
 std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixed_step, const Exec& exec,
@@ -211,6 +250,7 @@ std::size_t mixed_to_nearer(std::vector<float>& depth, int W, int H, double mixe
             }
         }
     }, 16);
+    drop_on_surfaces(row_changes, depth, W, H, exec);
     std::size_t n = 0;
     for (const auto& row : row_changes) {
         for (const MixedStep& m : row) depth[m.index] = m.near;

@@ -435,3 +435,43 @@ TEST(layers_depth_map, ASplitPixelInOneSliceTakesTheForegroundsDepth) {
     EXPECT_EQ(bg.at(4, mx, my), 10.0f);
     EXPECT_NEAR(bg.at(0, mx, my), wall(0, mx, my), 1e-6f);
 }
+
+// A box's anti-aliased edge a little deeper than the box (within
+// `continuity`: the same surface) with a slice bound between the two depths:
+// the edge joins the box's layer. Left alone in the next layer, it was the
+// nearest thing to the pixels the box hides and continued the background
+// there with the box's colour: blurring the box revealed more box instead
+// of the wall.
+TEST(layers_depth_map, ASurfacesEdgePixelsStayWithItAcrossABound) {
+    constexpr int kEdge = 30;
+    constexpr float kBox = 0.8f, kWall = 0.1f;
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, kWin);
+    for (int y = kWin.y0; y < kWin.y1; ++y)
+        for (int x = kWin.x0; x < kWin.x1; ++x) {
+            const bool box = x <= kEdge;
+            for (int c = 0; c < 3; ++c) img.at(c, x, y) = box ? kBox : kWall;
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = x < kEdge ? 3.0f : x == kEdge ? 3.12f : 10.0f;
+        }
+    SliceOptions o;
+    o.split.mode = LayerSplit::Mode::Count;
+    o.split.count = 22;  // a bound at 1/d = 1/3 - (1/3 - 1/10) / 22: depth 3.099
+    o.extend_px = 8;
+    auto layers = layers_from_depth_map(img, o);
+    ASSERT_TRUE(layers) << layers.message();
+    const int y = (kWin.y0 + kWin.y1) / 2;
+    int box_layer = -1;
+    for (std::size_t k = 0; k < layers->size() && box_layer < 0; ++k)
+        if (at_or((*layers)[k].image, 3, kEdge - 1, y, 0.0f) > 0.0f) box_layer = int(k);
+    ASSERT_GE(box_layer, 0);
+    EXPECT_EQ(at_or((*layers)[std::size_t(box_layer)].image, 3, kEdge, y, 0.0f), 1.0f) << "the edge is in the box's layer";
+    // Behind the box, every layer that continues there continues the wall.
+    for (std::size_t k = std::size_t(box_layer) + 1; k < layers->size(); ++k)
+        for (int x = kEdge - 6; x < kEdge; ++x) {
+            const Image& l = (*layers)[k].image;
+            const float a = at_or(l, 3, x, y, 0.0f);
+            if (a > 0.0f) {
+                EXPECT_NEAR(l.at(0, x, y) / a, kWall, 1e-3f) << "layer " << k << ", x " << x;
+            }
+        }
+}

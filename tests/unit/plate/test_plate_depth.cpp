@@ -436,6 +436,23 @@ TEST(plate_depth, MixedSilhouettePixelsTakeTheNearerSurfacesDepth) {
     EXPECT_FLOAT_EQ(po->depth[std::size_t(kH / 2) * kW + 80], img.at(4, 80, kH / 2));
 }
 
+// Where a pole in front crosses the edge between a sphere and the wall
+// behind it: the sphere's pixel beside the pole's mixed pixel sees that
+// pixel's depth (no surface's) as its nearest neighbour and the wall as its
+// farthest, and lies between. It is on the sphere, and keeps its depth.
+TEST(plate_depth, APixelBesideAMixedPixelKeepsItsSurfacesDepth) {
+    constexpr float kPole = 3.8f, kMixed = 4.57f, kSphere = 6.9f, kWall = 8.2f;
+    Image img = plate([&](int x, int y) {
+        if (x < 80) return kPole;
+        if (x == 80) return kMixed;  // the pole's anti-aliased edge over the sphere and wall
+        return y < 60 ? kSphere : kWall;
+    });
+    auto pd = prepare_plate_depth(img, 4, DepthDecode{}, flags_camera());
+    ASSERT_TRUE(pd) << pd.message();
+    for (int y = 0; y < kH; ++y) EXPECT_FLOAT_EQ(at(*pd, 80, y), kPole) << "the pole's edge, row " << y;
+    for (int y = 56; y < 64; ++y) EXPECT_FLOAT_EQ(at(*pd, 81, y), img.at(4, 81, y)) << "beside the edge, row " << y;
+}
+
 // A silhouette: a red foreground (depth 2) left of column 80, a green checked
 // background (6) right of it; column 80 is covered silhouette_share(y) by the
 // foreground, its colour the mix (or all foreground colour with
