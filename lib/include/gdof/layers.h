@@ -39,6 +39,14 @@ struct Layer {
     // extent; Auto: the cluster's range; id and part layers: the covered range.
     double slice_near = 0.0;
     double slice_far = 0.0;
+    // Plates: the extension pixels that continue this layer's own surface
+    // behind a nearer slice of it (a bound across a floor or a wall: the
+    // pixel's own depth in the plate within `continuity` of the extension's),
+    // 1 per pixel of image's data window, all inside seam_box; empty: none.
+    // The defocus continues the surface there from the layer's own pixels
+    // (docs/diffusion.md, "A bound across a surface"), not from the fill.
+    std::vector<unsigned char> seam;
+    Roi seam_box;
 };
 
 // Layers made one at a time, front (index 0) to back: what defocus streams
@@ -208,7 +216,10 @@ GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const
 // the rim of its coverage (own pixels within 4 px of pixels it does not
 // cover: the fill continues the slice's edge, not a highlight deeper
 // inside), so blurring a foreground away reveals plausible background, not
-// black.
+// black. The extension pixels behind a nearer part of the slice's own
+// surface (the plate's depth there within `continuity` of the fill's) are
+// marked in Layer::seam: there the defocus continues the surface from the
+// slice's own pixels instead of the fill.
 struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding (when `depth` is null)

@@ -167,16 +167,26 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     if (exec.is_cancelled()) return Status::cancelled(layer_label(layer, index));
 
     t0 = std::chrono::steady_clock::now();
+    const int margin = spread_margin(bokeh != nullptr, analysis.max_radius);
     if (bokeh) {
         ++stats.layers_bokeh;
-        Status st = spread_planes(out.rgba.channels_view(), ConstImageView::planar(radius.data(), 1, work), *bokeh, frame, exec);
+        const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r) {
+            return spread_planes(planes, ConstImageView::planar(r.data(), 1, planes.window), *bokeh, frame, exec);
+        };
+        Status st = spread(out.rgba.channels_view(), radius);
+        if (st) st = continue_across_seams(layer, radius, work, margin, spread, out, exec);
         stats.t_diffuse += seconds_since(t0);
         if (!st) return st.prefix(layer_label(layer, index));
         return Status::ok();
     }
-    PyramidSolve how;
-    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, frame_radius, extrapolation,
-                                settings, exec, how);
+    PyramidSolve how, seams_how;
+    PyramidSolve* ran = &how;  // the layer's solve is the one counted
+    const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r) {
+        return diffuse_pyramid(planes, r, analysis.max_radius, frame_radius, extrapolation, settings, exec, *ran);
+    };
+    Status st = spread(out.rgba.channels_view(), radius);
+    ran = &seams_how;
+    if (st) st = continue_across_seams(layer, radius, work, margin, spread, out, exec);
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     // Counted by the solver that ran: on the pyramid, the levels' one.
@@ -185,10 +195,14 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     return Status::ok();
 }
 
-int work_margin(const DefocusOptions& settings, double max_radius_px) {
+int spread_margin(bool bokeh, double max_radius_px) {
     const int m = defocus_margin(max_radius_px);
-    if (settings.filter != DefocusFilter::Bokeh || !(max_radius_px > 0.0)) return m;
+    if (!bokeh || !(max_radius_px > 0.0)) return m;
     return std::max(m, int(std::ceil(2.0 * max_radius_px)) + 2);
+}
+
+int work_margin(const DefocusOptions& settings, double max_radius_px) {
+    return spread_margin(settings.filter == DefocusFilter::Bokeh, max_radius_px);
 }
 
 }  // namespace gdof::defocus_detail

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "gdof/bokeh.h"
@@ -128,6 +129,21 @@ Result<Image> defocus_vibrate(const LayerSource& source, const BlurField& field,
 // takes 2R + 2 (more than the aperture's reach R + 1) so that the spread
 // weight it normalises by is complete wherever the layer's light lands.
 int work_margin(const DefocusOptions& settings, double max_radius_px);
+// The same for a layer spread with the bokeh filter or diffused.
+int spread_margin(bool bokeh, double max_radius_px);
+
+// Spreads four planes over their window with radii over the same window,
+// as a layer's own diffusion or bokeh spread did (continue_across_seams).
+using SpreadSeams = std::function<Status(const ImageView& planes, const RadiusMap& radius)>;
+
+// A layer's colour behind a nearer part of its own surface, after `out`
+// was spread (defocus_seams.cpp): where the layer has seam pixels
+// (Layer::seam), they are spread alone over their box grown by `margin`
+// (within `work`) and the layer's colour there becomes its other pixels'
+// normalised spread, so the two parts of a surface cut by a slice bound
+// add up to the surface blurred whole.
+Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const Roi& work, int margin,
+                             const SpreadSeams& spread, DiffusedLayer& out, const Exec& exec);
 
 // dst (float R, G, B, A at channels 0..3) = src over dst, where src is four
 // row-major planes over src_window (row stride = its width). A destination
