@@ -170,23 +170,25 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
     const int margin = spread_margin(bokeh != nullptr, analysis.max_radius);
     if (bokeh) {
         ++stats.layers_bokeh;
-        const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r) {
-            return spread_planes(planes, ConstImageView::planar(r.data(), 1, planes.window), *bokeh, frame, exec);
+        const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r, const Exec& e) {
+            return spread_planes(planes, ConstImageView::planar(r.data(), 1, planes.window), *bokeh, frame, e);
         };
-        Status st = spread(out.rgba.channels_view(), radius);
+        Status st = spread(out.rgba.channels_view(), radius, exec);
         if (st) st = continue_across_seams(layer, radius, work, margin, spread, out, exec);
         stats.t_diffuse += seconds_since(t0);
         if (!st) return st.prefix(layer_label(layer, index));
         return Status::ok();
     }
-    PyramidSolve how, seams_how;
-    PyramidSolve* ran = &how;  // the layer's solve is the one counted
-    const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r) {
-        return diffuse_pyramid(planes, r, analysis.max_radius, frame_radius, extrapolation, settings, exec, *ran);
-    };
-    Status st = spread(out.rgba.channels_view(), radius);
-    ran = &seams_how;
-    if (st) st = continue_across_seams(layer, radius, work, margin, spread, out, exec);
+    PyramidSolve how;
+    Status st = diffuse_pyramid(out.rgba.channels_view(), radius, analysis.max_radius, frame_radius, extrapolation,
+                                settings, exec, how);
+    if (st) {
+        PyramidSolve seams_how;  // the layer's solve is the one counted
+        const SpreadSeams spread = [&](const ImageView& planes, const RadiusMap& r, const Exec& e) {
+            return diffuse_pyramid(planes, r, analysis.max_radius, frame_radius, extrapolation, settings, e, seams_how);
+        };
+        st = continue_across_seams(layer, radius, work, margin, spread, out, exec);
+    }
     stats.t_diffuse += seconds_since(t0);
     if (!st) return st.prefix(layer_label(layer, index));
     // Counted by the solver that ran: on the pyramid, the levels' one.

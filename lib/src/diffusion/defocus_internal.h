@@ -134,7 +134,7 @@ int spread_margin(bool bokeh, double max_radius_px);
 
 // Spreads four planes over their window with radii over the same window,
 // as a layer's own diffusion or bokeh spread did (continue_across_seams).
-using SpreadSeams = std::function<Status(const ImageView& planes, const RadiusMap& radius)>;
+using SpreadSeams = std::function<Status(const ImageView& planes, const RadiusMap& radius, const Exec& exec)>;
 
 // A layer's colour behind a nearer part of its own surface, after `out`
 // was spread (defocus_seams.cpp): where the layer has seam pixels

@@ -67,7 +67,9 @@ Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const 
         }
     }, 16);
     if (exec.is_cancelled()) return Status::cancelled("seams");
-    if (Status st = spread(seam.channels_view(), r); !st) return st;
+    Exec quiet = exec;  // the layer's own spread reported the progress
+    quiet.progress = nullptr;
+    if (Status st = spread(seam.channels_view(), r, quiet); !st) return st;
     parallel_for(exec, box.height(), [&](long r0, long r1) {
         for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y) {
             const std::size_t srow = std::size_t(y - box.y0) * std::size_t(BW);
