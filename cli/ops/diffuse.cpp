@@ -181,7 +181,7 @@ std::vector<Command> diffuse_commands() {
     t.push_back({.names = {"--layers"}, .args = "N|auto[:OPTS]|id[:CHANNEL]", .kind = Kind::Modifier, .group = D,
                  .help = "how --diffuse splits the input into layers: auto (depth clusters, also cut by blur where "
                          "a layer's blur would vary by more than max(2 px, largest/4); a plate under --diffuse only at "
-                         "silhouettes whose sides' blur differs by more); options after auto: MAX layers, blur=PX, gaps "
+                         "silhouettes whose sides' blur differs by more than max(2 px, largest/4.5)); options after auto: MAX layers, blur=PX, gaps "
                          "(no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel",
                  .run = [](Frame& f, const Step& s) { f.defocus.split = layer_split(s); },
                  .check = [](const Step& s) { layer_split(s); }});

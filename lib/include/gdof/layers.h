@@ -126,7 +126,8 @@ struct LayerSplit {
     // Auto: the blur step, px: deep samples, the most a layer's (per-bin
     // mean) radius may vary; depth maps, the radius difference across a
     // silhouette that needs a bound. 0 = automatic: max(2 px, largest
-    // radius / 4); raised until the layers fit in max_layers.
+    // radius / 4), at silhouettes largest radius / 4.5; raised until the
+    // layers fit in max_layers.
     double blur_step = 0.0;
     std::string id_channel = "id";
 };
@@ -288,13 +289,19 @@ struct ExtendOptions {
     // inputs, where that measured better on some frames of a focus pull and
     // worse on others).
     bool fill_from_hidden_edge = false;
-    // Colours above 1 enter the fill as 1 + log(v) and come back out as
-    // exp(v - 1); at or below 1 they are unchanged (the map is smooth at 1).
-    // A highlight on the rim (a lamp at 17 beside a ceiling at 0.01) then no
-    // longer rules every average it enters, so it does not glow sideways
-    // into the hidden part. Deep inputs, whose every edge feeds the fill;
-    // on plates, fed by the facing edge only, it measured no gain.
-    bool fill_compresses_highlights = false;
+    // Colours above a knee k enter the fill as k (1 + log(v / k)) and come
+    // back out as k exp(v / k - 1); at or below k they are unchanged (the
+    // map is smooth at k). A highlight on the rim (a lamp at 17 beside a
+    // ceiling at 0.01) then no longer rules every average it enters, so it
+    // does not glow sideways into the hidden part.
+    //   One: k = 1 (deep inputs, whose every edge feeds the fill).
+    //   RimMedian: k = 8 times the median of the layer's rim
+    //     colours (the mean of R, G, B), at most 1 (plates). Fed by the
+    //     facing edge only, a plate's fill met a highlight where a slice
+    //     bound crosses a light on a receding surface; a ceiling at 0.002
+    //     lies far below 1, so a knee at 1 barely helps there.
+    enum class HighlightKnee { None, One, RimMedian };
+    HighlightKnee fill_highlight_knee = HighlightKnee::None;
 };
 GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                                      const Exec& exec = {});

@@ -203,7 +203,7 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
     ext.occluder_alpha = 0.999f;
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
-    ext.fill_compresses_highlights = true;
+    ext.fill_highlight_knee = ExtendOptions::HighlightKnee::One;
     auto layers = deep_layer_source(d, settings.split, r, &ext, exec);  // blur_cuts Off ignores the radii
     if (!layers) return layers.status().prefix("defocus");
     const float* rgba[4];

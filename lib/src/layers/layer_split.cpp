@@ -216,7 +216,8 @@ DepthSlices auto_slices(const std::vector<double>& logs, const std::vector<float
         double rmax = 0.0;
         for (long b = 0; b < h.nbins; ++b)
             if (h.rcount[std::size_t(b)]) rmax = std::max(rmax, h.rsum[std::size_t(b)] / double(h.rcount[std::size_t(b)]));
-        double step = split.blur_step > 0.0 ? split.blur_step : std::max(kAutoBlurStepPx, rmax / kAutoBlurLayers);
+        const double per = grid ? kAutoBlurLayersAtSilhouettes : kAutoBlurLayers;
+        double step = split.blur_step > 0.0 ? split.blur_step : std::max(kAutoBlurStepPx, rmax / per);
         std::optional<SilhouetteScan> scan;
         if (grid) scan = scan_silhouettes(h, *grid, step, rmax, exec);
         std::vector<double> cuts;

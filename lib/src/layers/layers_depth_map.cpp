@@ -413,6 +413,7 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     L->extend_.owner = L->owner_;
     L->extend_.owner_distance = L->owner_distance_;
     L->extend_.fill_from_hidden_edge = true;
+    L->extend_.fill_highlight_knee = ExtendOptions::HighlightKnee::RimMedian;
     return std::unique_ptr<LayerSource>(std::move(L));
 }
 

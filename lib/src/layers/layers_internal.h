@@ -50,8 +50,13 @@ constexpr double kAutoMinGap = 0.05;
 constexpr double kAutoNoiseFraction = 2e-5;
 // Auto blur cuts (LayerSplit::blur_step = 0): step = max(kAutoBlurStepPx,
 // largest bin-mean radius / kAutoBlurLayers), times 1.25 until the layers fit.
+// At silhouettes (plates) the largest radius is divided by
+// kAutoBlurLayersAtSilhouettes: since a bound across a continuous surface
+// is continued from the surface's own pixels (defocus_seams.cpp) a cut
+// costs less, and the finer step measured better (docs/diffusion.md).
 constexpr double kAutoBlurStepPx = 2.0;
 constexpr double kAutoBlurLayers = 4.0;
+constexpr double kAutoBlurLayersAtSilhouettes = 4.5;
 // Cuts at silhouettes (SilhouetteGrid): a sharper front over a more blurred
 // background needs a bound only when the background's radius exceeds the
 // front's by kReverseNeed steps (a more blurred front: by one step).

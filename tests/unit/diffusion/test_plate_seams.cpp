@@ -106,7 +106,9 @@ TEST(plate_seams, OnlyExtensionBehindTheSameSurfaceIsASeam) {
     std::size_t seams = 0, behind_square = 0;
     for (const Layer& l : *layers) {
         const Roi w = l.image.data_window();
-        if (!l.seam.empty()) ASSERT_EQ(l.seam.size(), w.npixels()) << l.name;
+        if (!l.seam.empty()) {
+            ASSERT_EQ(l.seam.size(), w.npixels()) << l.name;
+        }
         for (int y = w.y0; y < w.y1; ++y)
             for (int x = w.x0; x < w.x1; ++x) {
                 const std::size_t o = std::size_t(y - w.y0) * std::size_t(w.width()) + std::size_t(x - w.x0);
@@ -131,4 +133,57 @@ TEST(plate_seams, OnlyExtensionBehindTheSameSurfaceIsASeam) {
     std::printf("%zu seam pixels, %zu extension pixels behind the nearer square\n", seams, behind_square);
     EXPECT_GT(seams, 0u) << "the bound crosses the wall";
     EXPECT_GT(behind_square, 0u) << "the far layer extends behind the nearer square";
+}
+
+// A light on a receding ceiling, cut by a slice bound (ExtendOptions::
+// HighlightKnee::RimMedian): the far part of the ceiling is extended behind
+// the near part by a fill from its rim, and the rim holds the far half of
+// the lamp. Averaged linearly, the lamp (17 over a ceiling at 0.002) rules
+// the fill well beside it, and wherever the near part's blurred edge lets
+// the extension show, the ceiling beside the lamp glows: "wings" along the
+// bound (the benchmark's Cornell lamp cut at 3.96 m). The reference is the
+// same plate as one layer, where nothing is extended.
+TEST(plate_seams, ALightCutByABoundDoesNotGlowSideways) {
+    constexpr int W = 192, H = 96;
+    const Roi win{0, 0, W, H};
+    auto in_lamp = [](int x, int y) { return x >= 80 && x < 112 && y >= 28 && y < 60; };
+    Image img = Image::with_channels({"R", "G", "B", "A", "Z"}, win);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const float v = in_lamp(x, y) ? 17.0f : 0.002f;
+            for (int c = 0; c < 3; ++c) img.at(c, x, y) = v;
+            img.at(3, x, y) = 1.0f;
+            img.at(4, x, y) = float(2.0 + 0.6 * y / (H - 1));  // the ceiling recedes upwards in the picture
+        }
+    ImageSet input;
+    input.parts.emplace_back(std::move(img));
+    const Camera cam = test_camera(win);
+    const BlurField field = map_field(win, [](int, int) { return 8.0f; });
+    DefocusOptions ds;
+    ds.split.mode = LayerSplit::Mode::Count;  // two slices: the bound at depth 2.26, row 41, across the lamp
+    ds.split.count = 2;
+    DefocusStats cut_stats, one_stats;
+    auto cut = defocus(input, field, cam, ds, &cut_stats);
+    ASSERT_TRUE(cut) << cut.message();
+    ASSERT_EQ(cut_stats.layers, 2);
+    ds.split.mode = LayerSplit::Mode::Auto;
+    ds.split.blur_cuts = LayerSplit::BlurCuts::Off;
+    auto one = defocus(input, field, cam, ds, &one_stats);
+    ASSERT_TRUE(one) << one.message();
+    ASSERT_EQ(one_stats.layers, 1);
+    // Beside the lamp, 24 px and more from it (three radii: one layer puts
+    // 1e-5 of the lamp there), on the lamp's rows and a radius around them.
+    double worst = 0.0;
+    int wx = -1, wy = -1;
+    for (int y = 20; y < 68; ++y)
+        for (int x = 0; x < W; ++x) {
+            if (x > 80 - 24 && x < 112 + 24) continue;
+            const double excess = value_at(cut->flat(0), 0, x, y) - value_at(one->flat(0), 0, x, y);
+            if (excess > worst) worst = excess, wx = x, wy = y;
+        }
+    std::printf("largest excess beside the lamp: %.5f (%.3f%% of the lamp) at %d,%d\n", worst, 100.0 * worst / 17.0,
+                wx, wy);
+    // A linear fill: 0.0063 (three times the ceiling); a knee at 1 (deep
+    // inputs' rule): 0.0014; at 8 times the rim's median: 0.00005.
+    EXPECT_LT(worst, 0.1 * 0.002) << "a tenth of the ceiling";
 }

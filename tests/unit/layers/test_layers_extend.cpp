@@ -215,7 +215,7 @@ TEST(layers_extend, AnEdgeThatFacesNothingHiddenDoesNotFeedTheExtension) {
     EXPECT_GT(brightest, 0.1f);
 }
 
-// fill_compresses_highlights (deep inputs): colours above 1 are averaged as
+// fill_highlight_knee One (deep inputs): colours above 1 are averaged as
 // 1 + log(v). The map is increasing and concave, so by Jensen's inequality
 // a continuation can only be darker than the linear fill's (which averages
 // the same rim values with the same weights), never brighter, and it stays
@@ -230,7 +230,7 @@ TEST(layers_extend, CompressedHighlightsFillNoBrighterThanTheLinearFill) {
     ExtendOptions ext = reach_32px();
     std::vector<Layer> linear = layers, compressed = layers;
     ASSERT_TRUE(extend_layers_behind(linear, kLampFrame, ext));
-    ext.fill_compresses_highlights = true;
+    ext.fill_highlight_knee = ExtendOptions::HighlightKnee::One;
     ASSERT_TRUE(extend_layers_behind(compressed, kLampFrame, ext));
     const Image &lin = linear[1].image, &com = compressed[1].image;
     ASSERT_TRUE(lin.data_window() == com.data_window());
