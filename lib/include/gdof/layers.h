@@ -295,11 +295,11 @@ struct ExtendOptions {
     // ceiling at 0.01) then no longer rules every average it enters, so it
     // does not glow sideways into the hidden part.
     //   One: k = 1 (deep inputs, whose every edge feeds the fill).
-    //   RimMedian: k = 8 times the median of the layer's rim
-    //     colours (the mean of R, G, B), at most 1 (plates). Fed by the
-    //     facing edge only, a plate's fill met a highlight where a slice
-    //     bound crosses a light on a receding surface; a ceiling at 0.002
-    //     lies far below 1, so a knee at 1 barely helps there.
+    //   RimMedian: k = 8 times the median of the layer's rim colours
+    //     (the mean of R, G, B; black ones left out), at most 1 (plates).
+    //     Fed by the facing edge only, a plate's fill met a highlight where
+    //     a slice bound crosses a light on a receding surface; a ceiling at
+    //     0.002 lies far below 1, so a knee at 1 barely helps there.
     enum class HighlightKnee { None, One, RimMedian };
     HighlightKnee fill_highlight_knee = HighlightKnee::None;
 };

@@ -74,7 +74,7 @@ constexpr int kRim = 4;
 constexpr float kRimMedianKnee = 8.0f;
 
 // The knee above which the fill compresses colours (+inf: none), from the
-// rim pixels that feed it (`rim`, with alpha > 0).
+// rim pixels that feed it (`rim`, with alpha > 0) and are not black.
 float highlight_knee(ExtendOptions::HighlightKnee mode, const Image& src, const Roi& work,
                      const FrameBuffer<unsigned char>& rim, const FrameBuffer<float>& alpha, const Exec& exec) {
     using Knee = ExtendOptions::HighlightKnee;
@@ -91,7 +91,10 @@ float highlight_knee(ExtendOptions::HighlightKnee mode, const Image& src, const 
                 if (!rim[wi] || !(alpha[wi] > 0.0f)) continue;
                 const std::size_t o = src.offset(work.x0 + x, work.y0 + int(y));
                 const float v = (sp[0][o] + sp[1][o] + sp[2][o]) / (3.0f * sp[3][o]);
-                if (std::isfinite(v)) out.push_back(v);
+                // Black says nothing of the light's level: a rim mostly of
+                // a shadowed face (0 on 14% of the Cornell plate) would put
+                // the knee at 0 and compress every colour like a log.
+                if (v > 0.0f && std::isfinite(v)) out.push_back(v);
             }
         }
     }, 16);
@@ -100,7 +103,6 @@ float highlight_knee(ExtendOptions::HighlightKnee mode, const Image& src, const 
     if (all.empty()) return 1.0f;
     const auto mid = all.begin() + std::ptrdiff_t(all.size() / 2);
     std::nth_element(all.begin(), mid, all.end());
-    // A positive floor: a rim of black keeps a finite map.
     return std::clamp(kRimMedianKnee * *mid, 1e-6f, 1.0f);
 }
 
