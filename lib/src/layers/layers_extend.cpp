@@ -68,29 +68,26 @@ constexpr int kRim = 4;
 // median of the rim's colours. A bound through the benchmark's Cornell lamp
 // (17 on a ceiling at 0.002, the plate at 1920x1080 with the sphere of focus
 // cut at 3.96 m by a step of 6 px) left wings beside the lamp 25 times the
-// ceiling without a knee, 8 times with a knee at 1 and 4 times with this
+// ceiling without a knee, 9 times with a knee at 1 and 4 times with this
 // one; at 2 they were 2 times, but the plates' edges measured 0.3% worse
 // (Cornell two planes at 640x360), at 8 they are unchanged.
 constexpr float kRimMedianKnee = 8.0f;
 
 // The knee above which the fill compresses colours (+inf: none), from the
-// rim pixels that feed it (`rim`, with alpha > 0) and are not black.
-float highlight_knee(ExtendOptions::HighlightKnee mode, const Image& src, const Roi& work,
-                     const FrameBuffer<unsigned char>& rim, const FrameBuffer<float>& alpha, const Exec& exec) {
+// colours the fill is fed (`colour`: unpremultiplied R, G, B planes over
+// the work region, read where `weight` > 0) that are not black.
+float highlight_knee(ExtendOptions::HighlightKnee mode, const std::array<float*, 7>& colour,
+                     const FrameBuffer<float>& weight, int ww, int wh, const Exec& exec) {
     using Knee = ExtendOptions::HighlightKnee;
     if (mode == Knee::None) return std::numeric_limits<float>::infinity();
     if (mode == Knee::One) return 1.0f;
-    const int ww = work.width(), wh = work.height();
     std::vector<std::vector<float>> rows(static_cast<std::size_t>(wh));
     parallel_for(exec, wh, [&](long r0, long r1) {
-        const std::array<const float*, 8> sp = layer_planes(src);
         for (long y = r0; y < r1; ++y) {
             std::vector<float>& out = rows[std::size_t(y)];
-            for (int x = 0; x < ww; ++x) {
-                const std::size_t wi = std::size_t(y) * std::size_t(ww) + std::size_t(x);
-                if (!rim[wi] || !(alpha[wi] > 0.0f)) continue;
-                const std::size_t o = src.offset(work.x0 + x, work.y0 + int(y));
-                const float v = (sp[0][o] + sp[1][o] + sp[2][o]) / (3.0f * sp[3][o]);
+            for (std::size_t wi = std::size_t(y) * std::size_t(ww); wi < std::size_t(y + 1) * std::size_t(ww); ++wi) {
+                if (!(weight[wi] > 0.0f)) continue;
+                const float v = (colour[0][wi] + colour[1][wi] + colour[2][wi]) / 3.0f;
                 // Black says nothing of the light's level: a rim mostly of
                 // a shadowed face (0 on 14% of the Cornell plate) would put
                 // the knee at 0 and compress every colour like a log.
@@ -313,7 +310,6 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     FrameBuffer<float> wcol(wn), wgeo(wn);
     std::vector<unsigned char> same_weights(static_cast<std::size_t>(wh), 1);
     const FrameBuffer<unsigned char> rim = coverage_rim(own, ext, opt.fill_from_hidden_edge, ww, wh, exec);
-    const float knee = highlight_knee(opt.fill_highlight_knee, src, work, rim, alpha, exec);
     parallel_for(exec, wh, [&](long r0, long r1) {
         // Locals: the stores below may alias anything reached through a reference.
         const unsigned char* rim_p = rim.data();
@@ -332,10 +328,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
                 const float al = alpha_p[wi];
                 wc[wi] = al;
                 const std::size_t o = src.offset(work.x0 + x, work.y0 + y);
-                for (int c = 0; c < 3; ++c) {
-                    const float v = sp[std::size_t(c)][o] / sp[3][o];
-                    fp[std::size_t(c)][wi] = v > knee ? knee * (1.0f + std::log(v / knee)) : v;
-                }
+                for (int c = 0; c < 3; ++c) fp[std::size_t(c)][wi] = sp[std::size_t(c)][o] / sp[3][o];
                 bool geo = std::isfinite(sp[4][o]);
                 for (int k = 0; has_p && k < 3; ++k) geo = geo && std::isfinite(sp[std::size_t(5 + k)][o]);
                 if (geo) {
@@ -349,6 +342,17 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
             if (!same) same_weights[std::size_t(y)] = 0;
         }
     }, 16);
+    // Highlights enter the fill compressed above the knee (ExtendOptions::
+    // fill_highlight_knee) and leave it expanded below.
+    const float knee = highlight_knee(opt.fill_highlight_knee, fill, wcol, ww, wh, exec);
+    if (std::isfinite(knee))
+        parallel_for(exec, wh, [&](long r0, long r1) {
+            for (int c = 0; c < 3; ++c) {
+                float* v = fill[std::size_t(c)];
+                for (std::size_t wi = std::size_t(r0) * ww; wi < std::size_t(r1) * ww; ++wi)
+                    if (wcol[wi] > 0.0f && v[wi] > knee) v[wi] = knee * (1.0f + std::log(v[wi] / knee));
+            }
+        }, 16);
     const ImageView fill_view = ImageView::planar(fill_planes.data(), nfill, work);
     // Colour and geometry share one fill when their weights are the same (no
     // sky or missing positions among the layer's pixels): the same bits, as
