@@ -47,6 +47,22 @@ struct Layer {
     // (docs/diffusion.md, "A bound across a surface"), not from the fill.
     std::vector<unsigned char> seam;
     Roi seam_box;
+    // Plates (SliceOptions::mark_onward): the pixels past this layer's
+    // coverage where its surface goes on in a farther slice (a bound across
+    // a ceiling: the far part's pixels beside the near part, up to
+    // `extend_px` away, nearer to it than to any silhouette of the layer).
+    // They stay uncovered (R = G = B = A = 0) but hold the plate's Z (and
+    // P), and the diffusion blurs the layer there with their own radii, so
+    // its edge spreads over the far part as the whole surface would
+    // (docs/diffusion.md, "Past a plate layer's coverage"). 1 per pixel of
+    // onward_box (row-major; inside image's data window); empty: none.
+    std::vector<unsigned char> onward;
+    Roi onward_box;
+    // The surface onward was looked for (even if none was found): then
+    // every other uncovered pixel lies past a silhouette, where the
+    // diffusion spreads the layer as a lens spreads a blurred object: with
+    // the largest radius among its points whose circle reaches there.
+    bool onward_marked = false;
 };
 
 // Layers made one at a time, front (index 0) to back: what defocus streams
@@ -241,6 +257,10 @@ struct SliceOptions {
     // whose spread is normalised within a layer and so mixes a layer's
     // blurs).
     bool cut_at_silhouettes = true;
+    // Mark each layer's surface onward (Layer::onward): for diffusion, whose
+    // radii vary within a layer; the bokeh and vibrate filters do not read
+    // it.
+    bool mark_onward = false;
 };
 GDOF_API Result<std::vector<Layer>> layers_from_depth_map(const Image& rgba_depth, const SliceOptions& options,
                                                           const Exec& exec = {});

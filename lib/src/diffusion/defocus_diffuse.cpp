@@ -106,6 +106,7 @@ RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis,
         std::fill(full.begin(), full.end(), float(analysis.max_radius));
     }
     weight = {};
+    radius_past_coverage(layer, analysis, ext, full, exec);
     const float rmax = float(analysis.max_radius);
     if (ext == work) {  // the usual case (a whole render): in place
         parallel_for(exec, ext.height(), [&](long r0, long r1) {

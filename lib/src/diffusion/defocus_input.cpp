@@ -283,6 +283,7 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     so.source = settings.source;
     so.depth = &pd.value();
     so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
+    so.mark_onward = settings.filter == DefocusFilter::Diffusion;
     // Plates are continuous (floors, tables): only cuts by blur let a blurred
     // foreground spread over a sharp background, so they are on unless told not.
     if (settings.split.blur_cuts != LayerSplit::BlurCuts::Off) {

@@ -115,9 +115,18 @@ Status diffuse_layer(const Layer& layer, int index, const LayerAnalysis& analysi
                      DefocusStats& stats);
 
 // The layer's radii over `work`: its known radii, extrapolated by push-pull
-// over `extrapolation` (∪ work) beyond its coverage, clamped to [0, largest].
+// over `extrapolation` (∪ work) beyond its coverage (for a plate's layer
+// then radius_past_coverage), clamped to [0, largest].
 RadiusMap extrapolated_radius(const Layer& layer, const LayerAnalysis& analysis, const Roi& extrapolation,
                               const Roi& work, const Exec& exec);
+
+// Over `full` (the push-pull fill over `ext`), for a layer whose surface
+// onward was marked (Layer::onward_marked; otherwise nothing): its surface
+// onward takes its own radii, and past its silhouettes a pixel takes the
+// largest radius among the layer's points whose circle reaches it, where
+// one does (radius_past_coverage.cpp).
+void radius_past_coverage(const Layer& layer, const LayerAnalysis& analysis, const Roi& ext, RadiusMap& full,
+                          const Exec& exec);
 
 // Method 4 for defocus_layers: every layer made and analysed, its radii
 // extrapolated over the frame, then vibrate_layers (psf_field.h) over the

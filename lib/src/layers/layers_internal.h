@@ -149,6 +149,26 @@ Roi continue_surface(const std::vector<float>& depth, const std::vector<unsigned
                      std::span<const int> slice, std::span<const int> owner, int s, int width, int height,
                      const Roi& win, double continuity, int reach, std::vector<unsigned char>& cont);
 
+// Slice s's surface onward (surface_onward.cpp): the pixels of farther
+// slices that continue its surface past its own pixels (`own`: their box),
+// at most `reach` steps from them and nearer to where the surface goes on
+// than to any silhouette of the slice. Coordinates from the plate window's
+// origin; `box` bounds the onward pixels, `mask` (1: onward) covers it,
+// row-major (both empty: none).
+struct SurfaceOnwardInput {
+    int width = 0, height = 0;
+    std::span<const float> depth;             // per pixel; +inf sky
+    std::span<const unsigned char> present;   // per pixel: has a sample
+    std::span<const int> slice, fg_slice;     // per pixel; -1: none
+    std::span<const int> mixed;               // per pixel, >= 0: a mixed pixel (empty: none)
+    double continuity = 1.05;
+};
+struct SurfaceOnward {
+    Roi box;
+    std::vector<unsigned char> mask;
+};
+SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own, int reach, const Exec& exec);
+
 // Which slice continues or extends behind each pixel: among the slices behind
 // the pixel's nearest (the nearer of slice[i] and fg_slice[i]; slice -1: no
 // sample), the one whose own pixels (where slice or fg_slice is k) are
