@@ -17,7 +17,7 @@
 // reaching it and the reach it has left; a candidate that reaches less
 // far but has a smaller radius is dropped on the way, so this is a close
 // approximation of the rule (docs/diffusion.md, "Past a plate layer's
-// coverage": within 0.0004 of the exact rule's edge error on the
+// coverage": within 0.0005 of the exact rule's edge error on the
 // benchmark's panels but one).
 #include <cmath>
 #include <limits>
