@@ -91,31 +91,25 @@ void radius_past_coverage(const Layer& layer, const LayerAnalysis& analysis, con
     float* ra = radius.data();
     const std::size_t W = std::size_t(CW);
     const float step = float(f), diagonal = float(f) * kDiagonal;
-    // Forward: from the row above, then from the left.
-    for (int y = 0; y < CH; ++y) {
-        const std::size_t row = std::size_t(y) * W;
-        if (y > 0)
-            for (int x = 0; x < CW; ++x) {
-                const std::size_t i = row + std::size_t(x), up = i - W;
-                relax(re, ra, i, up, step);
-                if (x > 0) relax(re, ra, i, up - 1, diagonal);
-                if (x + 1 < CW) relax(re, ra, i, up + 1, diagonal);
+    // Forward (dir 1): each row from the row above, then from the left;
+    // backward (dir -1): from the row below, then from the right.
+    for (const int dir : {1, -1}) {
+        for (int k = 0; k < CH; ++k) {
+            const int y = dir > 0 ? k : CH - 1 - k;
+            const std::size_t row = std::size_t(y) * W;
+            if (k > 0)
+                for (int x = 0; x < CW; ++x) {
+                    const std::size_t i = row + std::size_t(x), prev = dir > 0 ? i - W : i + W;
+                    relax(re, ra, i, prev, step);
+                    if (x > 0) relax(re, ra, i, prev - 1, diagonal);
+                    if (x + 1 < CW) relax(re, ra, i, prev + 1, diagonal);
+                }
+            for (int j = 1; j < CW; ++j) {
+                const int x = dir > 0 ? j : CW - 1 - j;
+                relax(re, ra, row + std::size_t(x), row + std::size_t(x - dir), step);
             }
-        for (int x = 1; x < CW; ++x) relax(re, ra, row + std::size_t(x), row + std::size_t(x) - 1, step);
-        if (exec.is_cancelled()) return;
-    }
-    // Backward: from the row below, then from the right.
-    for (int y = CH - 1; y >= 0; --y) {
-        const std::size_t row = std::size_t(y) * W;
-        if (y + 1 < CH)
-            for (int x = 0; x < CW; ++x) {
-                const std::size_t i = row + std::size_t(x), down = i + W;
-                relax(re, ra, i, down, step);
-                if (x > 0) relax(re, ra, i, down - 1, diagonal);
-                if (x + 1 < CW) relax(re, ra, i, down + 1, diagonal);
-            }
-        for (int x = CW - 2; x >= 0; --x) relax(re, ra, row + std::size_t(x), row + std::size_t(x) + 1, step);
-        if (exec.is_cancelled()) return;
+            if (exec.is_cancelled()) return;
+        }
     }
     parallel_for(exec, EH, [&, known](long r0, long r1) {
         for (int y = ext.y0 + int(r0); y < ext.y0 + int(r1); ++y)

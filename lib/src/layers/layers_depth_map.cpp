@@ -146,9 +146,9 @@ private:
     // Layer s's extension pixels whose pixel in the plate continues the
     // layer's surface (Layer::seam), after its extension.
     void mark_seams(int s, Layer& L, const Exec& exec) const;
-    // Layer s's surface onward (Layer::onward): marked, and given the
-    // plate's depth and positions.
-    void write_onward(const SurfaceOnward& onward, Layer& L, const float* const pp[3]) const;
+    // Gives layer L's surface onward (L.onward, already marked) the plate's
+    // depth and positions.
+    void write_onward(Layer& L, const float* const pp[3]) const;
     friend Result<std::vector<Layer>> continued_layers(const Image&, const SliceOptions&, const Exec&);
 
     const Image& img_;
@@ -437,15 +437,17 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
     const int reach = options_.continue_surfaces ? int(std::ceil(options_.extend_px)) : 0;
     if (!empty && reach > 0)
         box = unite(box, continue_surface(ps_.depth, ps_.present, slice_, owner_, s, W, H, win, options_.continuity, reach, cont));
-    SurfaceOnward onward;
     L.onward_marked = options_.mark_onward;
     if (!empty && options_.mark_onward && options_.extend_px > 0.0) {
         const SurfaceOnwardInput in{W, H, ps_.depth, ps_.present, slice_, fg_slice_, ps_.mixed, options_.continuity};
         const Roi own_rel{own.x0 - win.x0, own.y0 - win.y0, own.x1 - win.x0, own.y1 - win.y0};
-        onward = surface_onward(in, s, own_rel, int(std::ceil(options_.extend_px)), exec);
-        if (!onward.box.empty())
-            box = unite(box, Roi{onward.box.x0 + win.x0, onward.box.y0 + win.y0, onward.box.x1 + win.x0,
-                                 onward.box.y1 + win.y0});
+        SurfaceOnward onward = surface_onward(in, s, own_rel, int(std::ceil(options_.extend_px)), exec);
+        const Roi& b = onward.box;
+        if (!b.empty()) {
+            L.onward_box = Roi{b.x0 + win.x0, b.y0 + win.y0, b.x1 + win.x0, b.y1 + win.y0};
+            L.onward = std::move(onward.mask);  // the same box, in absolute coordinates
+            box = unite(box, L.onward_box);
+        }
     }
     L.image = layer_image(pos_.has_value(), box, img_.display_window(), img_.metadata, L.name, img_.view);
     const float* pp[3] = {pos_ ? img_.plane((*pos_)[0]) : nullptr, pos_ ? img_.plane((*pos_)[1]) : nullptr,
@@ -479,23 +481,21 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
         }
     }, 8);
     if (!done) return Status::cancelled("depth-map layers");
-    if (!onward.box.empty()) write_onward(onward, L, pp);
+    if (!L.onward.empty()) write_onward(L, pp);
     return Status::ok();
 }
 
-void PlateLayers::write_onward(const SurfaceOnward& onward, Layer& L, const float* const pp[3]) const {
-    // Uncovered, with the plate's depth and positions, and marked.
+void PlateLayers::write_onward(Layer& L, const float* const pp[3]) const {
+    // Uncovered (as written blank), with the plate's depth and positions.
     const Roi win = img_.data_window();
-    const Roi& b = onward.box;
+    const Roi& b = L.onward_box;
     const std::size_t W = std::size_t(win.width());
-    L.onward_box = Roi{b.x0 + win.x0, b.y0 + win.y0, b.x1 + win.x0, b.y1 + win.y0};
-    L.onward = onward.mask;  // the same box, in the layer's coordinates
     const std::array<float*, 8> op = layer_planes(L.image);
     for (int y = b.y0; y < b.y1; ++y)
         for (int x = b.x0; x < b.x1; ++x) {
-            if (!onward.mask[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
-            const std::size_t i = std::size_t(y) * W + std::size_t(x);
-            const std::size_t o = L.image.offset(x + win.x0, y + win.y0);
+            if (!L.onward[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
+            const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
+            const std::size_t o = L.image.offset(x, y);
             op[4][o] = ps_.depth[i];
             if (pos_)
                 for (int c = 0; c < 3; ++c) op[std::size_t(5 + c)][o] = pp[c][i];

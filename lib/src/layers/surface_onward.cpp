@@ -24,6 +24,14 @@ namespace {
 
 constexpr std::uint16_t kFar = 0xffff;  // not reached
 
+// Calls f(x, y) for the 8 neighbours of (x, y) inside `g`.
+template <typename F>
+void for_each_neighbour(int x, int y, const Roi& g, F&& f) {
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+            if ((dx != 0 || dy != 0) && g.contains(x + dx, y + dy)) f(x + dx, y + dy);
+}
+
 }  // namespace
 
 SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own, int reach, const Exec& exec) {
@@ -58,18 +66,12 @@ SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own
                 const std::size_t i = frame_index(x, y);
                 if (slice[i] != s) continue;
                 bool on = false, edge = false;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if ((dx == 0 && dy == 0) || xx < 0 || xx >= W || yy < 0 || yy >= H) continue;
-                        const std::size_t j = frame_index(xx, yy);
-                        if (slice[j] == s) continue;  // own (a split pixel's background part too)
-                        if (slice[j] >= 0 && slice[j] < s && present[j]) continue;  // a nearer occluder
-                        if (farther(j) && same_surface(depth[i], depth[j], in.continuity))
-                            on = true;
-                        else
-                            edge = true;
-                    }
+                for_each_neighbour(x, y, frame, [&](int xx, int yy) {
+                    const std::size_t j = frame_index(xx, yy);
+                    if (slice[j] == s) return;  // own (a split pixel's background part too)
+                    if (slice[j] >= 0 && slice[j] < s && present[j]) return;  // a nearer occluder
+                    (farther(j) && same_surface(depth[i], depth[j], in.continuity) ? on : edge) = true;
+                });
                 if (on) goes_on[std::size_t(y - o.y0)].push_back(local(x, y));
                 if (edge) silhouette[std::size_t(y - o.y0)].push_back(local(x, y));
             }
@@ -90,16 +92,12 @@ SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own
         const std::size_t l = queue[head];
         const int d = to_silhouette[l];
         if (d > reach) continue;
-        const int x = g.x0 + int(l % std::size_t(GW)), y = g.y0 + int(l / std::size_t(GW));
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int xx = x + dx, yy = y + dy;
-                if (!g.contains(xx, yy)) continue;
-                const std::size_t m = local(xx, yy);
-                if (to_silhouette[m] != kFar) continue;
-                to_silhouette[m] = std::uint16_t(d + 1);
-                queue.push_back(m);
-            }
+        for_each_neighbour(g.x0 + int(l % std::size_t(GW)), g.y0 + int(l / std::size_t(GW)), g, [&](int xx, int yy) {
+            const std::size_t m = local(xx, yy);
+            if (to_silhouette[m] != kFar) return;
+            to_silhouette[m] = std::uint16_t(d + 1);
+            queue.push_back(m);
+        });
     }
 
     // The walk from where the surface goes on, each step within
@@ -119,17 +117,14 @@ SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own
         if (d >= reach) continue;
         const int x = g.x0 + int(l % std::size_t(GW)), y = g.y0 + int(l / std::size_t(GW));
         const float zi = depth[frame_index(x, y)];
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int xx = x + dx, yy = y + dy;
-                if (!g.contains(xx, yy)) continue;
-                const std::size_t m = local(xx, yy), j = frame_index(xx, yy);
-                if (steps[m] != kFar || !farther(j) || !same_surface(zi, depth[j], in.continuity)) continue;
-                if (to_silhouette[m] <= d + 1) continue;
-                steps[m] = std::uint16_t(d + 1);
-                area = unite(area, Roi{xx, yy, xx + 1, yy + 1});
-                queue.push_back(m);
-            }
+        for_each_neighbour(x, y, g, [&](int xx, int yy) {
+            const std::size_t m = local(xx, yy), j = frame_index(xx, yy);
+            if (steps[m] != kFar || !farther(j) || !same_surface(zi, depth[j], in.continuity)) return;
+            if (to_silhouette[m] <= d + 1) return;
+            steps[m] = std::uint16_t(d + 1);
+            area = unite(area, Roi{xx, yy, xx + 1, yy + 1});
+            queue.push_back(m);
+        });
     }
     if (area.empty()) return out;
     // The walked pixels (the queue past its seeds), over their box.
