@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <string>
 
 #include "blur_state.h"
 #include "errors.h"
@@ -29,9 +30,10 @@ Camera focused_or_fail(const Frame& f, Result<FocusedCamera> r, const std::strin
     if (!r) runtime_error("--focus-at: " + where + ": " + message_naming_flag(r.status()));
     if (r->focus.filled) {
         const auto [x, y] = *f.focus_at;
-        std::cerr << "gdof: --focus-at " << x << "," << y << ": " << where
-                  << ": no measured depth within 2 px; focusing at the depth the hole fill gives there ("
-                  << format_double("%g", r->focus.distance) << ")\n";
+        std::string note = "gdof: --focus-at " + std::to_string(x) + "," + std::to_string(y) + ": " + where +
+                           ": no measured depth within 2 px; focusing at the depth the hole fill gives there (" +
+                           format_double("%g", r->focus.distance) + ")\n";
+        if (f.focus_notes.insert(note).second) std::cerr << note;
     }
     return std::move(r->camera);
 }

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,9 @@ struct Frame {
     // --focus-at X,Y: the focus distance is the depth at that pixel (the thin
     // lens's, and a --blurfield refocused there).
     std::optional<std::pair<int, int>> focus_at;
+    // Notes --focus-at gave on this frame: each is said once, though every
+    // --probe and method that uses the focus finds it again.
+    mutable std::set<std::string> focus_notes;
 
     // --solver, --adi-steps, --layers, --depth-cleanup; --diffuse takes its
     // source from `source`.

@@ -204,9 +204,12 @@ TEST(cli_plates, FocusAtGivesTheDistanceOfThePixelsSurface) {
         if (c < 4) return c == 3 ? 1.0f : colour(x, y, c, 0);
         return std::abs(x - 50) <= 5 && std::abs(y - 10) <= 5 ? 0.0f : depth(x, y, 0);
     });
+    // Said once, though the probe and the blur map each find the focus.
     auto h = run_gdof(quote(holed) + kLens + " --focus-at 50,10 --probe 50,10 --eval-blur -o " + quote(dir.file("h.exr")));
     ASSERT_EQ(h.exit_code, 0) << h.output;
-    EXPECT_TRUE(contains(h.output, "no measured depth within 2 px; focusing at the depth the hole fill gives there (5)") &&
+    const std::string note = "no measured depth within 2 px; focusing at the depth the hole fill gives there (5)";
+    const std::size_t first = h.output.find(note);
+    EXPECT_TRUE(first != std::string::npos && h.output.find(note, first + 1) == std::string::npos &&
                 contains(h.output, "pixel 50,10: depth 5, ") && contains(h.output, "blur 0 px"))
         << h.output;
 }
