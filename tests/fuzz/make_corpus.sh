@@ -9,7 +9,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 c="$here/corpus"
 rm -rf "$c"
-mkdir -p "$c"/{exr,blur_field,psf_field,stack_json,focus_surfaces,scene,obj,lightfield,lens_table,frames,cli_args} "$here/dict"
+mkdir -p "$c"/{exr,blur_field,psf_field,stack_json,focus_surfaces,scene,obj,lightfield,lens_table,frames,cli_args,defocus} "$here/dict"
 
 # ---- EXR: flat, float + Z, windows, tiled, mip-mapped, multipart, deep, attributes
 o=(oiiotool --nosoftwareattrib)
@@ -63,6 +63,9 @@ printf 'in.exr\n--blurfield\nf.json\n--diffuse\n--layers\nauto\n-o\nout.####.exr
 printf -- '--render\nscene.json\n--deep\n--stack\ns.json\n-o\nstack/ref.####.exr\n--threads\n2\n' > "$c/cli_args/render"
 printf -- '--composite\nm.json\n--surfaces\ns.json\n-o\nout.exr\n--colorconvert\nACES2065-1\nscene_linear\n' > "$c/cli_args/composite"
 printf 'in.exr\n--bokeh\n--aperture\npolygon:6:roundness=0.3\n--focal-length\n50\n--fstop\n2.8\n--focus\n3\n-o\nout.exr\n' > "$c/cli_args/bokeh"
+
+# ---- small plates and deep images for the post-process core
+python3 "$here/defocus_seeds.py" "$c/defocus"
 
 # ---- dictionaries: every quoted key the JSON parsers look for, and JSON syntax
 keys() { grep -ohE '"[a-z_][a-z0-9_]*"' "$@" | sort -u; }

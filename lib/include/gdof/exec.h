@@ -24,8 +24,9 @@ struct Exec {
     }
 };
 
-// Runs f(begin, end) over [0, n) in parallel chunks on nthreads (TBB arena).
-// Returns false if cancelled. Chunking never affects results.
+// Runs f(begin, end) over [0, n) in parallel chunks on nthreads (TBB: the
+// caller's arena, or one kept per thread count; a loop costs the same however
+// many ran before it). Returns false if cancelled. Chunking never affects results.
 GDOF_API bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain = 1);
 
 // The same for work that can fail: f(begin, end) returns a Status. Chunks

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <map>
+#include <memory>
 #include <mutex>
 
 #include <tbb/blocked_range.h>
@@ -51,6 +53,22 @@ struct LoopEdges {
 #endif
 };
 
+// The arena for loops on `nthreads` (fewer than the cores), made once per
+// count and kept until exit. A tbb::task_arena made and destroyed per loop
+// cost about 75 us in oneTBB 2021.8 (Debian bookworm) and left about 7 KB
+// behind, and every later loop took longer: one process defocusing a
+// 640x360 plate frame after frame took 0.13 s for the first, twice that by
+// the twentieth, and grew 1.7 MB a frame (docs/reliability.md, "Long runs").
+tbb::task_arena& arena_for(int nthreads) {
+    static std::mutex mu;
+    // Never freed: a loop may run during static destruction.
+    static auto* arenas = new std::map<int, std::unique_ptr<tbb::task_arena>>();
+    std::lock_guard<std::mutex> lock(mu);
+    std::unique_ptr<tbb::task_arena>& a = (*arenas)[nthreads];
+    if (!a) a = std::make_unique<tbb::task_arena>(nthreads);
+    return *a;
+}
+
 }  // namespace
 
 bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)>& f, long grain) {
@@ -71,15 +89,27 @@ bool parallel_for(const Exec& exec, long n, const std::function<void(long, long)
     } else {
         // More threads than cores only adds overhead (and TBB warns); results never depend on it.
         const int cores = tbb::info::default_concurrency();
-        tbb::task_arena arena(exec.nthreads > 0 ? std::min(exec.nthreads, cores) : tbb::task_arena::automatic);
+        const int want = exec.nthreads > 0 ? std::min(exec.nthreads, cores) : cores;
         LoopEdges edges;
         auto chunk = [&](const tbb::blocked_range<long>& r) {
             edges.chunk_starts();
             body(r);
             edges.chunk_ends();
         };
+        // Isolated: a thread waiting for this loop's chunks takes none of an
+        // enclosing loop's (as in an arena of its own), so a chunk never runs
+        // inside another chunk of the same loop on one thread.
+        auto loop = [&] {
+            tbb::this_task_arena::isolate(
+                [&] { tbb::parallel_for(tbb::blocked_range<long>(0, n, std::size_t(grain)), chunk); });
+        };
         edges.before_loop();
-        arena.execute([&] { tbb::parallel_for(tbb::blocked_range<long>(0, n, std::size_t(grain)), chunk); });
+        // All cores, or already within an arena of at most `want` threads (a
+        // nested loop): here; else in the arena of that many threads.
+        if (want >= cores || tbb::this_task_arena::max_concurrency() <= want)
+            loop();
+        else
+            arena_for(want).execute(loop);
         edges.after_loop();
     }
     return !stop && !exec.is_cancelled();

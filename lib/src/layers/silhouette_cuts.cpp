@@ -25,6 +25,11 @@ struct NearestAround {
 NearestAround nearest_around(const SilhouetteGrid& g, double reach, const Exec& exec) {
     NearestAround n;
     const long W = g.width, H = g.height;
+    // Past the frame's size every cell sees the whole frame; a blur field
+    // may give absurd radii (a depth near 0 through a thin lens: 1e31 px),
+    // which the diffusion refuses later, but not before this runs.
+    const double frame_reach = double(W + H);
+    if (!(reach < frame_reach)) reach = frame_reach;
     n.cell = std::max(1L, long(reach / 2.0));
     n.gw = (W + n.cell - 1) / n.cell;
     n.gh = (H + n.cell - 1) / n.cell;
