@@ -58,7 +58,8 @@ struct LoopEdges {
 // cost about 75 us in oneTBB 2021.8 (Debian bookworm) and left about 7 KB
 // behind, and every later loop took longer: one process defocusing a
 // 640x360 plate frame after frame took 0.13 s for the first, twice that by
-// the twentieth, and grew 1.7 MB a frame (docs/reliability.md, "Long runs").
+// the twentieth, and grew 1.7 MB a frame, with another process busy on one
+// of the two cores (docs/reliability.md, "Long runs").
 tbb::task_arena& arena_for(int nthreads) {
     static std::mutex mu;
     // Never freed: a loop may run during static destruction.

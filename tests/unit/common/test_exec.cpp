@@ -75,8 +75,8 @@ long resident_kb() {
 // host for a whole session, each frame thousands of loops. With a TBB arena
 // made and dropped per loop (oneTBB 2021.8), each left about 7 KB behind
 // and took longer than the last (a 640x360 plate's frame 0.13 s alone,
-// 0.26 s by the twentieth in one process): the 10200 loops below (600, each
-// running 16 nested) grew the process by 73 MB.
+// 0.26 s by the twentieth in one process beside another job): the 10200
+// loops below (600, each running 16 nested) grew the process by 73 MB.
 TEST(exec, ManyLoopsLeaveNothingBehind) {
 #ifdef GDOF_TEST_SANITIZED
     GTEST_SKIP() << "sanitizers keep freed memory (quarantine): resident size says nothing here";
