@@ -180,7 +180,7 @@ std::vector<Command> diffuse_commands() {
                  .check = [](const Step& s) { solver(s); }});
     t.push_back({.names = {"--layers"}, .args = "N|auto[:OPTS]|id[:CHANNEL]", .kind = Kind::Modifier, .group = D,
                  .help = "how --diffuse splits the input into layers: auto (depth clusters, also cut by blur where "
-                         "a layer's blur would vary by more than max(2 px, largest/4); a plate under --diffuse only at "
+                         "a layer's blur would vary by more than max(2 px, largest/4); under --diffuse only at "
                          "silhouettes whose sides' blur differs by more than max(2 px, largest/4.5)); options after auto: MAX layers, blur=PX, gaps "
                          "(no blur cuts), e.g. auto:16:blur=3; N slices; or by a deep id channel",
                  .run = [](Frame& f, const Step& s) { f.defocus.split = layer_split(s); },

@@ -109,14 +109,17 @@ struct LayerSplit {
         // blur radius (defocus does), layers are also cut by blur, so that a
         // blurred object in front of a sharper part of the same continuous
         // depth range (a ground plane) spreads over it:
-        //  - deep samples (no neighbours known): walking the histogram bins
-        //    front to back, a new layer starts when the bins' mean radii
-        //    since the last cut span more than blur_step px;
-        //  - depth maps (layers_from_depth_map; the same as deep samples
-        //    with SliceOptions::cut_at_silhouettes off): only at silhouettes, where
-        //    a pixel's neighbour is farther by more than `continuity` and
-        //    the nearer one's radius exceeds the farther's by more than
-        //    blur_step px (or the farther's the nearer's by 3 steps). The
+        //  - by blur span (deep samples by default, plates with
+        //    SliceOptions::cut_at_silhouettes off): walking the histogram
+        //    bins front to back, a new layer starts when the bins' mean
+        //    radii since the last cut span more than blur_step px;
+        //  - at silhouettes (plates, and deep images with
+        //    cut_at_silhouettes: what defocus does for diffusion, a deep
+        //    pixel's surface being the sample at which its coverage reaches
+        //    one half): only where a pixel's neighbour is farther by more
+        //    than `continuity` and the nearer one's radius exceeds the
+        //    farther's by more than blur_step px (or the farther's the
+        //    nearer's by 3 steps). The
         //    fewest bounds that separate every such pair, each at the depth
         //    that puts the least light behind a nearer part of the picture
         //    within a blur radius (a continuous surface is cut only where a
@@ -136,11 +139,12 @@ struct LayerSplit {
     int count = 8;
     int max_layers = 32;
     // Auto: whether defocus cuts by blur. Default: yes, for deep inputs and
-    // depth maps alike; Off: gaps only.
+    // depth maps alike (for diffusion at silhouettes, for bokeh and vibrate
+    // by span); Off: gaps only.
     enum class BlurCuts { Default, On, Off };
     BlurCuts blur_cuts = BlurCuts::Default;
-    // Auto: the blur step, px: deep samples, the most a layer's (per-bin
-    // mean) radius may vary; depth maps, the radius difference across a
+    // Auto: the blur step, px: by span, the most a layer's (per-bin mean)
+    // radius may vary; at silhouettes, the radius difference across a
     // silhouette that needs a bound. 0 = automatic: max(2 px, largest
     // radius / 4), at silhouettes largest radius / 4.5; raised until the
     // layers fit in max_layers.
@@ -166,9 +170,14 @@ GDOF_API Result<LayerSplit> parse_layer_split(const std::string& text);
 // equals flatten_deep up to float rounding (the layers partition the sorted
 // samples); for ById only when ids do not interleave in depth.
 // `sample_radius` (optional, like SliceOptions::radius: empty, or one blur
-// radius per deep sample in sample order) drives Auto's blur cuts.
+// radius per deep sample in sample order) drives Auto's blur cuts: by blur
+// span, or with `cut_at_silhouettes` (what defocus does for diffusion, as
+// SliceOptions::cut_at_silhouettes for plates) only at the silhouettes of
+// the image's front surface (per pixel, the sample at which the coverage
+// reaches one half).
 GDOF_API Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
-                                                     std::span<const float> sample_radius = {}, const Exec& exec = {});
+                                                     std::span<const float> sample_radius = {}, const Exec& exec = {},
+                                                     bool cut_at_silhouettes = false);
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -332,12 +341,14 @@ GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Ro
 // and extension in make(). layers_from_depth_map(img, o) makes every layer
 // of depth_map_layer_source(img, o); layers_from_deep followed by
 // extend_layers_behind(layers, deep.data_window(), *extend) every layer of
-// deep_layer_source(deep, split, radius, extend) (extend null: none).
+// deep_layer_source(deep, split, radius, extend, exec, cut) (extend null:
+// none).
 GDOF_API Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& rgba_depth, const SliceOptions& options,
                                                             const Exec& exec = {});
 GDOF_API Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
-                                                       const ExtendOptions* extend, const Exec& exec = {});
+                                                       const ExtendOptions* extend, const Exec& exec = {},
+                                                       bool cut_at_silhouettes = false);
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
 // (float) and Z = depth of the nearest sample (NaN where there is none), over

@@ -204,7 +204,10 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     ext.occluder_alpha = 0.999f;
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
     ext.fill_highlight_knee = ExtendOptions::HighlightKnee::One;
-    auto layers = deep_layer_source(d, settings.split, r, &ext, exec);  // blur_cuts Off ignores the radii
+    // Diffusion cuts deep inputs, as plates, only at the silhouettes that
+    // need a bound (docs/diffusion.md); blur_cuts Off ignores the radii.
+    const bool at_silhouettes = settings.filter == DefocusFilter::Diffusion;
+    auto layers = deep_layer_source(d, settings.split, r, &ext, exec, at_silhouettes);
     if (!layers) return layers.status().prefix("defocus");
     const float* rgba[4];
     const char* const names[4] = {"R", "G", "B", "A"};

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <optional>
 
 #include "layers/layers_internal.h"
@@ -166,8 +167,8 @@ Result<SampleLayers> layers_by_id(const DeepImage& deep, const float* z, const s
 
 // Depth slices (Auto or Count) of the sample depths.
 SampleLayers layers_by_depth(std::span<const float> z, const LayerSplit& split, std::span<const float> sample_radius,
-                             const Exec& exec) {
-    const DepthSlices slices = choose_slices(z, split, sample_radius, exec);
+                             const Exec& exec, const SilhouetteGrid* grid) {
+    const DepthSlices slices = choose_slices(z, split, sample_radius, exec, grid);
     SampleLayers sl;
     sl.count = slices.count();
     sl.slice_lo = slices.lo;
@@ -257,6 +258,60 @@ bool for_each_sorted_pixel(const DeepImage& deep, const float* z, const Exec& ex
     });
 }
 
+// A deep image's front surface seen as a plate, for Auto's blur cuts at
+// silhouettes (SilhouetteGrid): per pixel the depth and radius of the sample
+// at which the composite's coverage reaches one half (the surface that owns
+// the pixel), and the composited light (what a bound may hide). A partial
+// sample in front of the owner (a silhouette pixel's other fragment) is not
+// given as a mixed pixel's front: its silhouette is already a neighbour's,
+// and adding them moved the bound on Cornell two planes (overall 0.0722 ->
+// 0.0765, docs/diffusion.md).
+struct FrontSurface {
+    std::vector<float> depth, radius, rgb[3];
+    std::vector<unsigned char> present;
+    SilhouetteGrid grid;
+};
+
+std::unique_ptr<FrontSurface> front_surface(const DeepImage& deep, const DeepChannels& ch, std::span<const float> sample_radius,
+                                            const Exec& exec) {
+    const Roi win = deep.data_window();
+    const std::size_t W = std::size_t(win.width()), n = win.npixels();
+    auto f = std::make_unique<FrontSurface>();
+    f->depth.assign(n, 0.0f);
+    f->radius.assign(n, 0.0f);
+    for (auto& c : f->rgb) c.assign(n, 0.0f);
+    f->present.assign(n, 0);
+    const SamplePlanes s(deep, ch);
+    for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        double acc = 0.0, cr = 0.0, cg = 0.0, cb = 0.0;
+        std::size_t own = order.back();
+        bool owned = false, any = false;
+        for (std::size_t k : order) {
+            const double a = std::clamp(s.alpha(k), 0.0, 1.0);
+            if (!(a > 0.0)) continue;
+            any = true;
+            const double t = 1.0 - acc;
+            cr += t * s.r[k], cg += t * s.g[k], cb += t * s.b[k];
+            acc += t * a;
+            if (!owned && acc >= 0.5) own = k, owned = true;
+        }
+        if (!any) return;
+        const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
+        f->present[i] = 1;
+        f->depth[i] = s.z[own];
+        f->radius[i] = sample_radius[own];
+        f->rgb[0][i] = float(cr), f->rgb[1][i] = float(cg), f->rgb[2][i] = float(cb);
+    });
+    SilhouetteGrid& g = f->grid;
+    g.width = win.width();
+    g.height = win.height();
+    g.depth = f->depth.data();
+    g.present = f->present.data();
+    g.radius = f->radius.data();
+    for (int c = 0; c < 3; ++c) g.rgb[c] = f->rgb[c].data();
+    return f;
+}
+
 // R, G, B, A of a composited pixel, and `z` as its depth, at img's offset `off`.
 void store_over(Image& img, std::size_t off, const Over& o, double z) {
     img.plane(0)[off] = float(o.r);
@@ -274,7 +329,7 @@ class DeepLayers final : public LayerSource {
 public:
     static Result<std::unique_ptr<DeepLayers>> create(const DeepImage& deep, const LayerSplit& split,
                                                       std::span<const float> sample_radius, const ExtendOptions* extend,
-                                                      const Exec& exec);
+                                                      const Exec& exec, bool cut_at_silhouettes);
     int size() const override { return sl_.count; }
     Roi frame() const override {  // the layers' boxes; extensions stay inside (hidden pixels have samples)
         Roi f;
@@ -300,7 +355,8 @@ private:
 
 Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
-                                                       const ExtendOptions* extend, const Exec& exec) {
+                                                       const ExtendOptions* extend, const Exec& exec,
+                                                       bool cut_at_silhouettes) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     std::unique_ptr<DeepLayers> D(new DeepLayers(deep, split));
@@ -311,9 +367,16 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
     if (!sample_radius.empty() && sample_radius.size() != nsamples)
         return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
                              std::to_string(nsamples) + " samples");
+    std::unique_ptr<FrontSurface> front;
+    if (cut_at_silhouettes && split.mode == LayerSplit::Mode::Auto && split.blur_cuts != LayerSplit::BlurCuts::Off &&
+        sample_radius.size() == nsamples && nsamples > 0) {
+        front = front_surface(deep, D->ch_, sample_radius, exec);
+        if (exec.is_cancelled()) return Status::cancelled("deep layers");
+    }
     Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
                                   ? layers_by_id(deep, z, split.id_channel)
-                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec));
+                                  : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec,
+                                                                         front ? &front->grid : nullptr));
     if (!sl) return sl.status();
     // A cancelled pass leaves its output unfinished: stop before using it.
     if (exec.is_cancelled()) return Status::cancelled("deep layers");
@@ -449,15 +512,17 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
 
 Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
-                                                       const ExtendOptions* extend, const Exec& exec) {
-    auto d = DeepLayers::create(deep, split, sample_radius, extend, exec);
+                                                       const ExtendOptions* extend, const Exec& exec,
+                                                       bool cut_at_silhouettes) {
+    auto d = DeepLayers::create(deep, split, sample_radius, extend, exec, cut_at_silhouettes);
     if (!d) return d.status();
     return std::unique_ptr<LayerSource>(std::move(d).value());
 }
 
 Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
-                                            std::span<const float> sample_radius, const Exec& exec) {
-    auto d = DeepLayers::create(deep, split, sample_radius, nullptr, exec);
+                                            std::span<const float> sample_radius, const Exec& exec,
+                                            bool cut_at_silhouettes) {
+    auto d = DeepLayers::create(deep, split, sample_radius, nullptr, exec, cut_at_silhouettes);
     if (!d) return d.status();
     return make_all(**d, exec);
 }

@@ -47,8 +47,8 @@ Image pole_scene() {
     return img;
 }
 
-DeepImage pole_scene_deep() {
-    const Image flat = pole_scene();
+// One opaque sample per pixel, the plate's.
+DeepImage deep_of(const Image& flat) {
     DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, kWin, kWin);
     EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(flat.npixels(), 1)));
     for (int y = 0; y < kH; ++y)
@@ -58,6 +58,8 @@ DeepImage pole_scene_deep() {
         }
     return d;
 }
+
+DeepImage pole_scene_deep() { return deep_of(pole_scene()); }
 
 std::vector<float> radius_map() {
     std::vector<float> r(std::size_t(kW) * kH);
@@ -185,6 +187,75 @@ TEST(layers_blur_cuts, APlateIsCutOnlyAtTheSilhouettesThatNeedIt) {
     EXPECT_EQ(none->size(), 1u);
 }
 
+TEST(layers_blur_cuts, ADeepImageIsCutAtTheSilhouettesOfItsFrontSurface) {
+    // What defocus does for diffusion: the bounds of the plate of its front
+    // samples, not one per blur span.
+    const std::vector<float> r = radius_map();
+    Image ground = pole_scene();
+    std::vector<float> rg(r.size());
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            ground.at(4, x, y) = float(ground_depth(x, y));
+            rg[std::size_t(y) * kW + std::size_t(x)] = float(radius_at(ground_depth(x, y)));
+        }
+    auto by_span = layers_from_deep(deep_of(ground), LayerSplit{}, rg);
+    ASSERT_TRUE(by_span) << by_span.message();
+    EXPECT_GE(by_span->size(), 3u) << "span cuts: the ground's 0..8 px in strips";
+    auto alone = layers_from_deep(deep_of(ground), LayerSplit{}, rg, {}, true);
+    ASSERT_TRUE(alone) << alone.message();
+    EXPECT_EQ(alone->size(), 1u) << "no silhouette, no cut";
+
+    // The pole: every farther ground pixel beside it that needs a bound lies
+    // behind one, as in the plate (the same bounds: one sample a pixel).
+    const DeepImage deep = pole_scene_deep();
+    auto cut = layers_from_deep(deep, LayerSplit{}, r, {}, true);
+    ASSERT_TRUE(cut) << cut.message();
+    SliceOptions so;
+    so.radius = r;
+    auto plate = layers_from_depth_map(pole_scene(), so);
+    ASSERT_TRUE(plate) << plate.message();
+    ASSERT_EQ(cut->size(), plate->size());
+    for (std::size_t i = 0; i + 1 < cut->size(); ++i) EXPECT_EQ((*cut)[i].slice_far, (*plate)[i].slice_far) << i;
+    // Ground pixels beside the pole that need a bound, not behind one.
+    auto unseparated = [](const std::vector<Layer>& layers) {
+        const int pole_layer = layer_of(layers, kPoleDepth);
+        int needs = 0, wrong = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x : {kPole0 - 1, kPole1}) {
+                const double z = ground_depth(x, y);
+                if (z <= kPoleDepth * 1.05 || radius_at(kPoleDepth) - radius_at(z) <= 2.0) continue;
+                ++needs;
+                if (layer_of(layers, z) <= pole_layer) ++wrong;
+            }
+        EXPECT_GT(needs, 50);
+        return wrong;
+    };
+    EXPECT_EQ(unseparated(*cut), 0);
+
+    // A pixel's surface is the sample where its coverage reaches one half: a
+    // faint veil (alpha 0.2) just in front of the pole over every pixel,
+    // blurred like it, adds no silhouette and takes none away (were it the
+    // surface, every pixel would be at its depth: no silhouette, one layer).
+    DeepImage veiled({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, kWin, kWin);
+    ASSERT_TRUE(veiled.set_sample_counts(std::vector<std::uint32_t>(std::size_t(kW) * kH, 2)));
+    std::vector<float> rv(2 * r.size());
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const std::size_t k = veiled.first_sample(veiled.pixel_index(x, y));
+            const float veil[5] = {0.1f, 0.1f, 0.1f, 0.2f, 2.1f};
+            for (int c = 0; c < 5; ++c) {
+                veiled.samples(c)[k] = veil[c];
+                veiled.samples(c)[k + 1] = deep.samples(c)[deep.first_sample(deep.pixel_index(x, y))];
+            }
+            rv[k] = float(radius_at(2.1));
+            rv[k + 1] = r[std::size_t(y) * kW + std::size_t(x)];
+        }
+    auto under_veil = layers_from_deep(veiled, LayerSplit{}, rv, {}, true);
+    ASSERT_TRUE(under_veil) << under_veil.message();
+    EXPECT_GT(under_veil->size(), 1u);
+    EXPECT_EQ(unseparated(*under_veil), 0);
+}
+
 TEST(layers_blur_cuts, APlatesBoundDoesNotHideAHighlightBehindIt) {
     // The pole needs a bound between its depth (2.2) and the ground beside it
     // where that ground is at least 2 px sharper (beyond depth 2.92). Without
@@ -260,8 +331,9 @@ TEST(layers_blur_cuts, RadiiMustMatchTheSamples) {
 // The pole (radius 7.2 px, sigma 3.6) in front of the far, nearly sharp rows
 // of the same continuous ground: its red must spread beside it as a blurred
 // bar does (the analytic fraction outside), for flat + Z and deep inputs.
-// With gaps only (one layer) the sharp ground insulates it. Deep inputs are
-// cut by blur by default, plates (flat + Z) too (LayerSplit::blur_cuts).
+// With gaps only (one layer) the sharp ground insulates it. Deep inputs and
+// plates (flat + Z) are cut by blur by default (LayerSplit::blur_cuts), for
+// diffusion both at the pole's silhouette.
 TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface) {
     const double rp = radius_at(kPoleDepth);
     const double expected = gaussian_fraction_outside(kPole1 - kPole0, rp / 2.0);
@@ -290,9 +362,8 @@ TEST(layers_blur_cuts, BlurredObjectSpreadsOverTheSharpPartOfAContinuousSurface)
         ds.cleanup.mixed_pixels = false;
         auto cut = defocus(input, field, cam, ds, &stats);
         ASSERT_TRUE(cut) << cut.message();
-        // Deep: cut by blur span (several slices of the ground); flat: at
-        // the pole's silhouette (the pole and the ground behind it).
-        EXPECT_GE(stats.layers, deep ? 3 : 2) << (deep ? "deep" : "flat");
+        // At the pole's silhouette: the pole and the ground behind it.
+        EXPECT_EQ(stats.layers, 2) << (deep ? "deep" : "flat");
         const double f_cut = fraction_outside(cut->flat(0));
         std::printf("%s: %d layers, fraction outside %.4f (analytic %.4f)\n", deep ? "deep" : "flat", stats.layers,
                     f_cut, expected);
@@ -388,3 +459,58 @@ TEST(layers_blur_cuts, ANoisySurfaceAtABlurCutSpreadsAsItsCleanDepthDoes) {
     EXPECT_NEAR(clean, analytic, 0.05 * analytic);
     EXPECT_NEAR(smoothed, clean, 0.01 * clean) << "as measured it is 2.5% off";
 }
+
+// A blur that is not a function of depth (a sphere of focus, a blur map):
+// two poles at one depth, the right one blurred by 7.2 px, the left one and
+// the whole ground sharp. Cut by blur span, the poles' depth bin holds
+// mostly sharp pixels, so it is not cut from the ground and the blurred pole
+// is insulated by the sharp ground beside it (its outline stays sharp: the
+// Cornell box's edge over the wall under a sphere of focus). Cut at the
+// silhouettes of the deep image's front surface (defocus, diffusion), the
+// blurred pole spreads as the analytic blurred bar does.
+TEST(layers_blur_cuts, ADeepImageWhoseBlurIsNotAFunctionOfDepthIsCutAtItsSilhouettes) {
+    constexpr int kSharp0 = 8, kSharp1 = 32;  // the sharp pole's columns, 12 px left of the blurred one
+    const double rp = radius_at(kPoleDepth);
+    const double expected = gaussian_fraction_outside(kPole1 - kPole0, rp / 2.0);
+    Image img = pole_scene();
+    for (int y = 0; y < kH; ++y)
+        for (int x = kSharp0; x < kSharp1; ++x) {
+            img.at(0, x, y) = 0.0f, img.at(1, x, y) = 0.0f, img.at(2, x, y) = 1.0f;
+            img.at(4, x, y) = float(kPoleDepth);
+        }
+    const DeepImage deep = deep_of(img);
+    auto radius = [&](int x, int) { return in_pole(x) ? float(rp) : 0.0f; };
+    const Camera cam = test_camera(kWin);
+    const BlurField field = map_field(kWin, radius);
+
+    std::vector<float> r(img.npixels());
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) r[std::size_t(y) * kW + std::size_t(x)] = radius(x, y);
+    auto by_span = layers_from_deep(deep, LayerSplit{}, r);
+    ASSERT_TRUE(by_span) << by_span.message();
+    EXPECT_EQ(by_span->size(), 1u) << "the blur span of every depth bin is under the step";
+
+    // Red beside the blurred pole (not over the sharp one), over the rows
+    // where the ground is behind it (from depth 2.58: row 16 on).
+    auto fraction_outside = [&](const Image& out) {
+        double in = 0.0, outside = 0.0;
+        for (int y = 16; y < kH; ++y)
+            for (int x = kSharp1; x < kW; ++x) (in_pole(x) ? in : outside) += value_at(out, 0, x, y);
+        return outside / (in + outside);
+    };
+    ImageSet input;
+    input.parts.emplace_back(deep);
+    DefocusStats stats;
+    auto out = defocus(input, field, cam, DefocusOptions{}, &stats);
+    ASSERT_TRUE(out) << out.message();
+    const double f = fraction_outside(out->flat(0));
+    std::printf("deep, blur map: %d layers, fraction outside %.4f (analytic %.4f)\n", stats.layers, f, expected);
+    EXPECT_GE(stats.layers, 2);
+    EXPECT_NEAR(f, expected, 0.05 * expected);
+    // The sharp pole stays sharp: no red on it, and its blue within its columns.
+    double blue_in = 0.0, blue_out = 0.0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kPole0; ++x) (x >= kSharp0 && x < kSharp1 ? blue_in : blue_out) += value_at(out->flat(0), 2, x, y);
+    EXPECT_LT(blue_out, 0.01 * blue_in);
+}
+
