@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -16,6 +17,7 @@
 
 #include "gdof/blur_field.h"
 #include "gdof/camera.h"
+#include "gdof/deep.h"
 #include "gdof/defocus.h"
 
 namespace gdof::test {
@@ -90,6 +92,22 @@ inline double max_abs_diff(const Image& a, const Image& b, const Roi& roi) {
         for (int y = roi.y0; y < roi.y1; ++y)
             for (int x = roi.x0; x < roi.x1; ++x) m = std::max(m, std::abs(value_at(a, c, x, y) - value_at(b, c, x, y)));
     return m;
+}
+
+// A flat image as a deep one: one sample per pixel with the pixel's
+// channels (the deep render of what a plate holds).
+inline DeepImage deep_of(const Image& flat) {
+    std::vector<ChannelSpec> chans;
+    for (int c = 0; c < flat.nchannels(); ++c) chans.push_back({flat.channel(c).name, PixelType::Float});
+    DeepImage d(chans, flat.data_window(), flat.display_window());
+    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(flat.npixels(), 1)));
+    const Roi w = flat.data_window();
+    for (int y = w.y0; y < w.y1; ++y)
+        for (int x = w.x0; x < w.x1; ++x) {
+            const std::size_t k = d.first_sample(d.pixel_index(x, y));
+            for (int c = 0; c < flat.nchannels(); ++c) d.samples(c)[k] = flat.at(c, x, y);
+        }
+    return d;
 }
 
 inline bool bit_identical(const Image& a, const Image& b) {

@@ -113,10 +113,10 @@ struct LayerSplit {
         //    SliceOptions::cut_at_silhouettes off): walking the histogram
         //    bins front to back, a new layer starts when the bins' mean
         //    radii since the last cut span more than blur_step px;
-        //  - at silhouettes (plates, and deep images with
-        //    cut_at_silhouettes: what defocus does for diffusion, a deep
-        //    pixel's surface being the sample at which its coverage reaches
-        //    one half): only where a pixel's neighbour is farther by more
+        //  - at silhouettes (plates, and deep images sliced by their front
+        //    surface: what defocus does for diffusion, a deep pixel's
+        //    surface being the sample at which its coverage reaches one
+        //    half; layers_from_deep): only where a pixel's neighbour is farther by more
         //    than `continuity` and the nearer one's radius exceeds the
         //    farther's by more than blur_step px (or the farther's the
         //    nearer's by 3 steps). The
@@ -171,13 +171,15 @@ GDOF_API Result<LayerSplit> parse_layer_split(const std::string& text);
 // samples); for ById only when ids do not interleave in depth.
 // `sample_radius` (optional, like SliceOptions::radius: empty, or one blur
 // radius per deep sample in sample order) drives Auto's blur cuts: by blur
-// span, or with `cut_at_silhouettes` (what defocus does for diffusion, as
-// SliceOptions::cut_at_silhouettes for plates) only at the silhouettes of
-// the image's front surface (per pixel, the sample at which the coverage
-// reaches one half).
+// span, or with `by_front_surface` only at the silhouettes of the image's
+// front surface (per pixel, the sample at which the coverage reaches one
+// half), as a plate's for diffusion. `by_front_surface` (what defocus does
+// for diffusion; depth splits) also marks each layer's surface onward and
+// seams from the front surface (Layer::onward, Layer::seam), as a plate
+// layer's.
 GDOF_API Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
                                                      std::span<const float> sample_radius = {}, const Exec& exec = {},
-                                                     bool cut_at_silhouettes = false);
+                                                     bool by_front_surface = false);
 
 // Multilayer / multipart EXR -> layers: every flat part, and every layer
 // prefix inside a part ("fg.R", "fg.A", "fg.P.x" or "fg.Z" ...), that has
@@ -341,14 +343,14 @@ GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Ro
 // and extension in make(). layers_from_depth_map(img, o) makes every layer
 // of depth_map_layer_source(img, o); layers_from_deep followed by
 // extend_layers_behind(layers, deep.data_window(), *extend) every layer of
-// deep_layer_source(deep, split, radius, extend, exec, cut) (extend null:
-// none).
+// deep_layer_source(deep, split, radius, extend, exec, by_front_surface)
+// (extend null: none).
 GDOF_API Result<std::unique_ptr<LayerSource>> depth_map_layer_source(const Image& rgba_depth, const SliceOptions& options,
                                                             const Exec& exec = {});
 GDOF_API Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
                                                        const ExtendOptions* extend, const Exec& exec = {},
-                                                       bool cut_at_silhouettes = false);
+                                                       bool by_front_surface = false);
 
 // Deep image flattened front to back with `over` (premultiplied): R, G, B, A
 // (float) and Z = depth of the nearest sample (NaN where there is none), over

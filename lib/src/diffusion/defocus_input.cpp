@@ -204,10 +204,12 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     ext.occluder_alpha = 0.999f;
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
     ext.fill_highlight_knee = ExtendOptions::HighlightKnee::One;
-    // Diffusion cuts deep inputs, as plates, only at the silhouettes that
-    // need a bound (docs/diffusion.md); blur_cuts Off ignores the radii.
-    const bool at_silhouettes = settings.filter == DefocusFilter::Diffusion;
-    auto layers = deep_layer_source(d, settings.split, r, &ext, exec, at_silhouettes);
+    // Diffusion slices deep inputs by their front surface, as plates: cut
+    // only at the silhouettes that need a bound, each layer's surface
+    // onward and seams marked (docs/diffusion.md); blur_cuts Off ignores
+    // the radii.
+    const bool by_front_surface = settings.filter == DefocusFilter::Diffusion;
+    auto layers = deep_layer_source(d, settings.split, r, &ext, exec, by_front_surface);
     if (!layers) return layers.status().prefix("defocus");
     const float* rgba[4];
     const char* const names[4] = {"R", "G", "B", "A"};

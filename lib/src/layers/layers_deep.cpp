@@ -258,17 +258,47 @@ bool for_each_sorted_pixel(const DeepImage& deep, const float* z, const Exec& ex
     });
 }
 
-// A deep image's front surface seen as a plate, for Auto's blur cuts at
-// silhouettes (SilhouetteGrid): per pixel the depth and radius of the sample
-// at which the composite's coverage reaches one half (the surface that owns
-// the pixel), and the composited light (what a bound may hide). A partial
-// sample in front of the owner (a silhouette pixel's other fragment) is not
-// given as a mixed pixel's front: its silhouette is already a neighbour's,
-// and adding them moved the bound on Cornell two planes (overall 0.0722 ->
-// 0.0765, docs/diffusion.md).
+// The sample that owns a pixel (where the composite's coverage reaches one
+// half; the last sample with coverage if it never does) and the nearest
+// sample with coverage, of `order` (front to back); npos: no coverage.
+struct PixelSurface {
+    static constexpr std::size_t npos = std::size_t(-1);
+    std::size_t owner = npos, first = npos;
+};
+PixelSurface pixel_surface(const SamplePlanes& s, const std::vector<std::size_t>& order) {
+    PixelSurface ps;
+    double acc = 0.0;
+    for (std::size_t k : order) {
+        const double a = std::clamp(s.alpha(k), 0.0, 1.0);
+        if (!(a > 0.0)) continue;
+        if (ps.first == PixelSurface::npos) ps.first = k;
+        ps.owner = k;
+        acc += (1.0 - acc) * a;
+        if (acc >= 0.5) break;
+    }
+    return ps;
+}
+
+// A deep image's front surface seen as a plate, for diffusion's layering:
+// - Auto's blur cuts at silhouettes (SilhouetteGrid): per pixel the depth and radius of
+//   the sample that owns it (pixel_surface: a faint veil in front does
+//   not), and the composited light (what a bound may hide). A partial
+//   sample in front of the owner (a silhouette pixel's other fragment) is
+//   not given as a mixed pixel's front, as a plate's mixed pixels are: its
+//   silhouette is already a neighbour's, and adding them moved the bound on
+//   Cornell two planes (overall 0.0722 -> 0.0765, docs/diffusion.md).
+// - Each layer's surface onward and seams, as a plate layer's (Layer::onward,
+//   Layer::seam): the owner's depth (and position) per pixel, and once the
+//   samples are sliced, the owner's slice and, where the nearest partial
+//   sample lies in another, that one (a split pixel's foreground).
+// Neighbouring depths within this ratio are one surface (as a plate's
+// default SliceOptions::continuity).
+constexpr double kContinuity = 1.05;
+
 struct FrontSurface {
-    std::vector<float> depth, radius, rgb[3];
+    std::vector<float> depth, radius, rgb[3], p[3];
     std::vector<unsigned char> present;
+    std::vector<int> slice, fg_slice;
     SilhouetteGrid grid;
 };
 
@@ -280,27 +310,30 @@ std::unique_ptr<FrontSurface> front_surface(const DeepImage& deep, const DeepCha
     f->depth.assign(n, 0.0f);
     f->radius.assign(n, 0.0f);
     for (auto& c : f->rgb) c.assign(n, 0.0f);
+    const float* sp[3] = {nullptr, nullptr, nullptr};
+    if (ch.p)
+        for (int c = 0; c < 3; ++c) {
+            sp[c] = deep.samples((*ch.p)[std::size_t(c)]);
+            f->p[c].assign(n, kNaN);
+        }
     f->present.assign(n, 0);
     const SamplePlanes s(deep, ch);
     for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        const PixelSurface ps = pixel_surface(s, order);
+        if (ps.owner == PixelSurface::npos) return;
         double acc = 0.0, cr = 0.0, cg = 0.0, cb = 0.0;
-        std::size_t own = order.back();
-        bool owned = false, any = false;
         for (std::size_t k : order) {
-            const double a = std::clamp(s.alpha(k), 0.0, 1.0);
-            if (!(a > 0.0)) continue;
-            any = true;
             const double t = 1.0 - acc;
             cr += t * s.r[k], cg += t * s.g[k], cb += t * s.b[k];
-            acc += t * a;
-            if (!owned && acc >= 0.5) own = k, owned = true;
+            acc += t * std::clamp(s.alpha(k), 0.0, 1.0);
         }
-        if (!any) return;
         const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
         f->present[i] = 1;
-        f->depth[i] = s.z[own];
-        f->radius[i] = sample_radius[own];
+        f->depth[i] = s.z[ps.owner];
+        if (!sample_radius.empty()) f->radius[i] = sample_radius[ps.owner];
         f->rgb[0][i] = float(cr), f->rgb[1][i] = float(cg), f->rgb[2][i] = float(cb);
+        if (ch.p)
+            for (int c = 0; c < 3; ++c) f->p[c][i] = sp[c][ps.owner];
     });
     SilhouetteGrid& g = f->grid;
     g.width = win.width();
@@ -310,6 +343,27 @@ std::unique_ptr<FrontSurface> front_surface(const DeepImage& deep, const DeepCha
     g.radius = f->radius.data();
     for (int c = 0; c < 3; ++c) g.rgb[c] = f->rgb[c].data();
     return f;
+}
+
+// The front surface's slices, once the samples are sliced (FrontSurface);
+// the radii and light the cuts needed are dropped.
+void slice_front_surface(FrontSurface& f, const DeepImage& deep, const DeepChannels& ch,
+                         std::span<const std::int32_t> layer_of, const Exec& exec) {
+    f.radius = {};
+    for (auto& c : f.rgb) c = {};
+    f.grid = SilhouetteGrid{};
+    const Roi win = deep.data_window();
+    const std::size_t W = std::size_t(win.width());
+    f.slice.assign(win.npixels(), -1);
+    f.fg_slice.assign(win.npixels(), -1);
+    const SamplePlanes s(deep, ch);
+    for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
+        const PixelSurface ps = pixel_surface(s, order);
+        if (ps.owner == PixelSurface::npos) return;
+        const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
+        f.slice[i] = layer_of[ps.owner];
+        if (layer_of[ps.first] != f.slice[i]) f.fg_slice[i] = layer_of[ps.first];
+    });
 }
 
 // R, G, B, A of a composited pixel, and `z` as its depth, at img's offset `off`.
@@ -329,7 +383,7 @@ class DeepLayers final : public LayerSource {
 public:
     static Result<std::unique_ptr<DeepLayers>> create(const DeepImage& deep, const LayerSplit& split,
                                                       std::span<const float> sample_radius, const ExtendOptions* extend,
-                                                      const Exec& exec, bool cut_at_silhouettes);
+                                                      const Exec& exec, bool by_front_surface);
     int size() const override { return sl_.count; }
     Roi frame() const override {  // the layers' boxes; extensions stay inside (hidden pixels have samples)
         Roi f;
@@ -342,6 +396,11 @@ public:
 private:
     DeepLayers(const DeepImage& deep, const LayerSplit& split) : deep_(deep), split_(split) {}
     Status plan(const ExtendOptions& extend, const Exec& exec);
+    // Layer l's surface onward (Layer::onward) over `box` grown to hold it,
+    // and its seams after the extension (Layer::seam), as a plate layer's.
+    void mark_onward(int l, Layer& L, Roi& box, const Exec& exec) const;
+    void write_onward(Layer& L) const;
+    void mark_seams(Layer& L, const Roi& own_box, const std::vector<unsigned char>& own, const Exec& exec) const;
 
     const DeepImage& deep_;
     LayerSplit split_;
@@ -351,12 +410,13 @@ private:
     bool extend_on_ = false;
     ExtendOptions extend_;
     ExtensionPlan plan_;
+    std::unique_ptr<FrontSurface> front_;  // cut at silhouettes: onward and seams too
 };
 
 Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
                                                        const ExtendOptions* extend, const Exec& exec,
-                                                       bool cut_at_silhouettes) {
+                                                       bool by_front_surface) {
     auto chr = deep_channels(deep);
     if (!chr) return chr.status();
     std::unique_ptr<DeepLayers> D(new DeepLayers(deep, split));
@@ -367,20 +427,28 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
     if (!sample_radius.empty() && sample_radius.size() != nsamples)
         return Status::error("deep layers: " + std::to_string(sample_radius.size()) + " blur radii for " +
                              std::to_string(nsamples) + " samples");
+    // Depth splits for diffusion: the front surface (cuts at its
+    // silhouettes under Auto with radii, each layer's onward and seams).
     std::unique_ptr<FrontSurface> front;
-    if (cut_at_silhouettes && split.mode == LayerSplit::Mode::Auto && split.blur_cuts != LayerSplit::BlurCuts::Off &&
-        sample_radius.size() == nsamples && nsamples > 0) {
+    if (by_front_surface && split.mode != LayerSplit::Mode::ById && nsamples > 0) {
         front = front_surface(deep, D->ch_, sample_radius, exec);
         if (exec.is_cancelled()) return Status::cancelled("deep layers");
     }
+    const bool at_silhouettes = front && split.mode == LayerSplit::Mode::Auto &&
+                                split.blur_cuts != LayerSplit::BlurCuts::Off && sample_radius.size() == nsamples;
     Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
                                   ? layers_by_id(deep, z, split.id_channel)
                                   : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec,
-                                                                         front ? &front->grid : nullptr));
+                                                                         at_silhouettes ? &front->grid : nullptr));
     if (!sl) return sl.status();
     // A cancelled pass leaves its output unfinished: stop before using it.
     if (exec.is_cancelled()) return Status::cancelled("deep layers");
     D->sl_ = std::move(sl).value();
+    if (front) {
+        slice_front_surface(*front, deep, D->ch_, D->sl_.layer_of, exec);
+        if (exec.is_cancelled()) return Status::cancelled("deep layers");
+        D->front_ = std::move(front);
+    }
     D->ext_ = layer_extents(deep, z, D->sl_, exec);
     if (exec.is_cancelled()) return Status::cancelled("deep layers");
     if (extend && D->sl_.count >= 2 && !deep.data_window().empty()) {
@@ -461,9 +529,14 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
         L.slice_far = sl_.slice_hi[li];
         L.name = empty ? depth_range_name(L.slice_near, L.slice_far) + " (empty)" : depth_range_name(L.depth_near, L.depth_far);
     }
-    const Roi box = ext_.box[li];
+    const Roi own_box = ext_.box[li];
+    Roi box = own_box;
+    L.onward_marked = front_ != nullptr;
+    if (front_ && !empty) mark_onward(l, L, box, exec);
     L.image = layer_image(with_positions, box, deep_.display_window(), deep_.metadata, L.name, deep_.view);
     Image& img = L.image;
+    // Which pixels of the box hold samples of the layer (for its seams).
+    std::vector<unsigned char> own(front_ ? own_box.npixels() : 0, 0);
     const SamplePlanes s(deep_, ch_);
     const float* sp[3] = {with_positions ? deep_.samples((*ch_.p)[0]) : nullptr,
                           with_positions ? deep_.samples((*ch_.p)[1]) : nullptr,
@@ -484,6 +557,8 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
                     blank_layer_pixel(img, img.offset(x, y));
                     continue;
                 }
+                if (!own.empty())
+                    own[std::size_t(y - own_box.y0) * std::size_t(own_box.width()) + std::size_t(x - own_box.x0)] = 1;
                 if (mine == 1) {
                     order.assign(1, first);
                 } else {
@@ -503,9 +578,79 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
             }
     });
     if (!ok) return Status::cancelled();
+    if (!L.onward.empty()) write_onward(L);
     if (extend_on_)
         if (Status st = extend_layer(L, l, plan_, extend_, exec); !st) return st;
+    if (front_ && !empty) mark_seams(L, own_box, own, exec);
     return &L;
+}
+
+void DeepLayers::mark_onward(int l, Layer& L, Roi& box, const Exec& exec) const {
+    if (!extend_on_ || !(extend_.extend_px > 0.0)) return;
+    const Roi win = deep_.data_window();
+    const FrontSurface& f = *front_;
+    const SurfaceOnwardInput in{win.width(), win.height(), f.depth, f.present, f.slice, f.fg_slice, {}, kContinuity};
+    const Roi& own = ext_.box[std::size_t(l)];
+    const Roi own_rel{own.x0 - win.x0, own.y0 - win.y0, own.x1 - win.x0, own.y1 - win.y0};
+    SurfaceOnward onward = surface_onward(in, l, own_rel, int(std::ceil(extend_.extend_px)), exec);
+    const Roi& b = onward.box;
+    if (b.empty()) return;
+    L.onward_box = Roi{b.x0 + win.x0, b.y0 + win.y0, b.x1 + win.x0, b.y1 + win.y0};
+    L.onward = std::move(onward.mask);  // the same box, in absolute coordinates
+    box = unite(box, L.onward_box);
+}
+
+void DeepLayers::write_onward(Layer& L) const {
+    // Uncovered (as written blank), with the front surface's depth and positions.
+    const Roi win = deep_.data_window();
+    const Roi& b = L.onward_box;
+    const FrontSurface& f = *front_;
+    const std::array<float*, 8> op = layer_planes(L.image);
+    for (int y = b.y0; y < b.y1; ++y)
+        for (int x = b.x0; x < b.x1; ++x) {
+            if (!L.onward[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
+            const std::size_t i = std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0);
+            const std::size_t o = L.image.offset(x, y);
+            op[4][o] = f.depth[i];
+            if (op[5])
+                for (int c = 0; c < 3; ++c) op[std::size_t(5 + c)][o] = f.p[c][i];
+        }
+}
+
+void DeepLayers::mark_seams(Layer& L, const Roi& own_box, const std::vector<unsigned char>& own, const Exec& exec) const {
+    // An extension pixel (covered, no sample of the layer) is a seam where
+    // the surface in front of it, which hides it, is the layer's own: the
+    // front surface's depth there within kContinuity of the extension's.
+    const Roi lw = L.image.data_window(), win = deep_.data_window();
+    const int zc = L.image.channel_index("Z");
+    if (lw.empty() || zc < 0) return;
+    const FrontSurface& f = *front_;
+    const int lww = lw.width();
+    std::vector<unsigned char> seam(lw.npixels(), 0);
+    std::vector<Roi> row_box(std::size_t(lw.height()));
+    parallel_for(exec, lw.height(), [&](long r0, long r1) {
+        const float* A = L.image.plane(3);
+        const float* Z = L.image.plane(zc);
+        for (int y = lw.y0 + int(r0); y < lw.y0 + int(r1); ++y) {
+            int xmin = lw.x1, xmax = lw.x0 - 1;
+            for (int x = lw.x0; x < lw.x1; ++x) {
+                const std::size_t o = std::size_t(y - lw.y0) * std::size_t(lww) + std::size_t(x - lw.x0);
+                if (!(A[o] > 0.0f) || !win.contains(x, y)) continue;
+                if (own_box.contains(x, y) &&
+                    own[std::size_t(y - own_box.y0) * std::size_t(own_box.width()) + std::size_t(x - own_box.x0)])
+                    continue;
+                const std::size_t i = std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0);
+                if (!f.present[i] || !same_surface(f.depth[i], Z[o], kContinuity)) continue;
+                seam[o] = 1;
+                xmin = std::min(xmin, x);
+                xmax = x;
+            }
+            if (xmax >= xmin) row_box[std::size_t(y - lw.y0)] = Roi{xmin, y, xmax + 1, y + 1};
+        }
+    }, 16);
+    for (const Roi& r : row_box)
+        if (!r.empty()) L.seam_box = unite(L.seam_box, r);
+    if (!L.seam_box.empty()) L.seam = std::move(seam);
 }
 
 }  // namespace
@@ -513,16 +658,16 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
 Result<std::unique_ptr<LayerSource>> deep_layer_source(const DeepImage& deep, const LayerSplit& split,
                                                        std::span<const float> sample_radius,
                                                        const ExtendOptions* extend, const Exec& exec,
-                                                       bool cut_at_silhouettes) {
-    auto d = DeepLayers::create(deep, split, sample_radius, extend, exec, cut_at_silhouettes);
+                                                       bool by_front_surface) {
+    auto d = DeepLayers::create(deep, split, sample_radius, extend, exec, by_front_surface);
     if (!d) return d.status();
     return std::unique_ptr<LayerSource>(std::move(d).value());
 }
 
 Result<std::vector<Layer>> layers_from_deep(const DeepImage& deep, const LayerSplit& split,
                                             std::span<const float> sample_radius, const Exec& exec,
-                                            bool cut_at_silhouettes) {
-    auto d = DeepLayers::create(deep, split, sample_radius, nullptr, exec, cut_at_silhouettes);
+                                            bool by_front_surface) {
+    auto d = DeepLayers::create(deep, split, sample_radius, nullptr, exec, by_front_surface);
     if (!d) return d.status();
     return make_all(**d, exec);
 }

@@ -81,6 +81,17 @@ void cut_and_whole(const ImageSet& input, const BlurField& field, const Roi& win
     whole = one->flat(0);
 }
 
+// A seam pixel of the scene's layer l at (x, y): inside the seam box,
+// extension (covered), and over the wall (not a square), whose depth there
+// is within 5% of the extension's.
+void expect_seam_over_the_wall(const Layer& l, int x, int y) {
+    EXPECT_TRUE(l.seam_box.contains(x, y)) << l.name << " " << x << "," << y;
+    EXPECT_GT(l.image.at(3, x, y), 0.0f) << "a seam pixel is extension: " << x << "," << y;
+    EXPECT_FALSE(in_near_square(x, y) || in_far_square(x, y)) << l.name << " " << x << "," << y;
+    const double z = l.image.at(4, x, y);
+    EXPECT_LE(std::max(z, wall_z(x)), std::min(z, wall_z(x)) * 1.05) << x << "," << y;
+}
+
 }  // namespace
 
 // Diffusion (cut where the squares need it) and the bokeh filter (a disc;
@@ -157,18 +168,57 @@ TEST(plate_seams, OnlyExtensionBehindTheSameSurfaceIsASeam) {
                 }
                 if (!seam) continue;
                 ++seams;
-                EXPECT_TRUE(l.seam_box.contains(x, y)) << l.name << " " << x << "," << y;
-                EXPECT_GT(l.image.at(3, x, y), 0.0f) << "a seam pixel is extension: " << x << "," << y;
-                // The plate's own pixel there is the wall, within 5% of the
-                // extension's depth.
-                EXPECT_FALSE(in_near_square(x, y) || in_far_square(x, y)) << l.name << " " << x << "," << y;
-                const double z = l.image.at(4, x, y);
-                EXPECT_LE(std::max(z, wall_z(x)), std::min(z, wall_z(x)) * 1.05) << x << "," << y;
+                expect_seam_over_the_wall(l, x, y);
             }
     }
     std::printf("%zu seam pixels, %zu extension pixels behind the nearer square\n", seams, behind_square);
     EXPECT_GT(seams, 0u) << "the bound crosses the wall";
     EXPECT_GT(behind_square, 0u) << "the far layer extends behind the nearer square";
+}
+
+// The same scene's deep render (one sample a pixel), sliced by its front
+// surface as defocus does for diffusion: its layers' seams are the
+// extension behind the nearer part of the wall, as the plate's, never
+// behind the nearer square (another surface).
+TEST(plate_seams, ADeepImagesSeamsAreItsExtensionBehindTheSameSurface) {
+    const DeepImage deep = deep_of(seam_scene());
+    std::vector<float> radius(deep.total_samples());
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) radius[deep.first_sample(deep.pixel_index(x, y))] = radius_of(x, y);
+    ExtendOptions ext;
+    ext.extend_px = 8.0;
+    ext.occluder_alpha = 0.999f;
+    ext.continue_coverage = true;
+    for (bool by_front_surface : {false, true}) {
+        // Without the front surface, two slices of equal extent in 1 / depth
+        // (a bound across the wall too, with extension behind it).
+        LayerSplit split;
+        if (!by_front_surface) split.mode = LayerSplit::Mode::Count, split.count = 2;
+        auto source = deep_layer_source(deep, split, radius, &ext, {}, by_front_surface);
+        ASSERT_TRUE(source) << source.message();
+        std::size_t seams = 0;
+        for (int i = 0; i < (*source)->size(); ++i) {
+            Layer storage;
+            auto made = (*source)->make(i, storage, {});
+            ASSERT_TRUE(made) << made.message();
+            const Layer& l = **made;
+            const Roi w = l.image.data_window();
+            for (int y = w.y0; y < w.y1; ++y)
+                for (int x = w.x0; x < w.x1; ++x) {
+                    const std::size_t o = std::size_t(y - w.y0) * std::size_t(w.width()) + std::size_t(x - w.x0);
+                    if (l.seam.empty() || !l.seam[o]) continue;
+                    ++seams;
+                    expect_seam_over_the_wall(l, x, y);
+                }
+        }
+        std::printf("deep, %s: %d layers, %zu seam pixels\n", by_front_surface ? "by its front surface" : "two slices",
+                    (*source)->size(), seams);
+        if (by_front_surface) {
+            EXPECT_GT(seams, 0u) << "the squares' bound crosses the wall";
+        } else {
+            EXPECT_EQ(seams, 0u) << "seams are marked for the front surface's slices only";
+        }
+    }
 }
 
 // A light on a receding ceiling, cut by a slice bound (ExtendOptions::
@@ -211,17 +261,22 @@ TEST(plate_seams, ALightCutByABoundDoesNotGlowSideways) {
 // its edge, threw its Gaussian tail 10 px further over them (the benchmark's
 // Cornell lamp with two focal planes: 0.06, 0.03, 0.01 over a ceiling at
 // 0.001 where one layer has 0.02, 0.004, 0.0003). The near part now spreads
-// there with the far part's own radii: as the whole ceiling.
+// there with the far part's own radii: as the whole ceiling. The same for the
+// plate's deep render (one sample a pixel), sliced by its front surface.
 TEST(plate_seams, ALightAboveABoundSpreadsOverTheFarPartAsTheWholeCeiling) {
     constexpr int W = 128, H = 96;
     const Roi win{0, 0, W, H};
-    const ImageSet input = lamp_on_ceiling(win, Roi{48, 18, 80, 34});  // the bound between rows 41 and 42
+    const ImageSet plate = lamp_on_ceiling(win, Roi{48, 18, 80, 34});  // the bound between rows 41 and 42
+    ImageSet deep;  // its deep render (one sample a pixel), sliced by its front surface as the plate
+    deep.parts.emplace_back(deep_of(plate.flat(0)));
     // 8 px down to row 40, then less and less: 1 px from row 56.
     const BlurField field = map_field(win, [](int, int y) {
         return y <= 40 ? 8.0f : float(std::max(1.0, 8.0 - 7.0 * (y - 40) / 16.0));
     });
+    for (const ImageSet* input : std::initializer_list<const ImageSet*>{&plate, &deep}) {
+    const char* name = input == &deep ? "deep" : "plate";
     Image cut, one;
-    cut_and_whole(input, field, win, cut, one);
+    cut_and_whole(*input, field, win, cut, one);
     if (HasFatalFailure()) return;
     // The far part below the lamp, from 4 px past the bound: the light on
     // it, cut against one layer, and the largest excess on a pixel.
@@ -234,11 +289,12 @@ TEST(plate_seams, ALightAboveABoundSpreadsOverTheFarPartAsTheWholeCeiling) {
             light_one += b - 0.002;
             if (a - b > worst) worst = a - b, wx = x, wy = y;
         }
-    std::printf("light on the far part below the lamp: %.4f cut, %.4f one layer; largest excess %.5f at %d,%d\n",
-                light_cut, light_one, worst, wx, wy);
+    std::printf("%s: light on the far part below the lamp: %.4f cut, %.4f one layer; largest excess %.5f at %d,%d\n",
+                name, light_cut, light_one, worst, wx, wy);
     // With the near part's radii extrapolated: 2.4 times one layer's light
     // there (0.291 against 0.122), 0.0035 more on a pixel (1.8 times the
     // ceiling); now the same to 4 decimals.
-    EXPECT_NEAR(light_cut, light_one, 0.02 * light_one);
-    EXPECT_LT(worst, 0.1 * 0.002) << "a tenth of the ceiling";
+    EXPECT_NEAR(light_cut, light_one, 0.02 * light_one) << name;
+    EXPECT_LT(worst, 0.1 * 0.002) << name << ": a tenth of the ceiling";
+    }
 }

@@ -47,18 +47,6 @@ Image pole_scene() {
     return img;
 }
 
-// One opaque sample per pixel, the plate's.
-DeepImage deep_of(const Image& flat) {
-    DeepImage d({{"R"}, {"G"}, {"B"}, {"A"}, {"Z"}}, kWin, kWin);
-    EXPECT_TRUE(d.set_sample_counts(std::vector<std::uint32_t>(flat.npixels(), 1)));
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            const std::size_t k = d.first_sample(d.pixel_index(x, y));
-            for (int c = 0; c < 5; ++c) d.samples(c)[k] = flat.at(c, x, y);
-        }
-    return d;
-}
-
 DeepImage pole_scene_deep() { return deep_of(pole_scene()); }
 
 std::vector<float> radius_map() {
