@@ -279,10 +279,15 @@ PixelSurface pixel_surface(const SamplePlanes& s, const std::vector<std::size_t>
     return ps;
 }
 
+// Neighbouring depths within this ratio are one surface (as a plate's
+// default SliceOptions::continuity).
+constexpr double kContinuity = 1.05;
+
 // A deep image's front surface seen as a plate, for diffusion's layering:
-// - Auto's blur cuts at silhouettes (SilhouetteGrid): per pixel the depth and radius of
-//   the sample that owns it (pixel_surface: a faint veil in front does
-//   not), and the composited light (what a bound may hide). A partial
+// - Auto's blur cuts at silhouettes (SilhouetteGrid; only when they are
+//   made): per pixel the depth and radius of the sample that owns it
+//   (pixel_surface: a faint veil in front does not), and the composited
+//   light (what a bound may hide). A partial
 //   sample in front of the owner (a silhouette pixel's other fragment) is
 //   not given as a mixed pixel's front, as a plate's mixed pixels are: its
 //   silhouette is already a neighbour's, and adding them moved the bound on
@@ -291,10 +296,6 @@ PixelSurface pixel_surface(const SamplePlanes& s, const std::vector<std::size_t>
 //   Layer::seam): the owner's depth (and position) per pixel, and once the
 //   samples are sliced, the owner's slice and, where the nearest partial
 //   sample lies in another, that one (a split pixel's foreground).
-// Neighbouring depths within this ratio are one surface (as a plate's
-// default SliceOptions::continuity).
-constexpr double kContinuity = 1.05;
-
 struct FrontSurface {
     std::vector<float> depth, radius, rgb[3], p[3];
     std::vector<unsigned char> present;
@@ -302,14 +303,17 @@ struct FrontSurface {
     SilhouetteGrid grid;
 };
 
+// `for_cuts`: with the radii and light the cuts need (sample_radius given).
 std::unique_ptr<FrontSurface> front_surface(const DeepImage& deep, const DeepChannels& ch, std::span<const float> sample_radius,
-                                            const Exec& exec) {
+                                            bool for_cuts, const Exec& exec) {
     const Roi win = deep.data_window();
     const std::size_t W = std::size_t(win.width()), n = win.npixels();
     auto f = std::make_unique<FrontSurface>();
     f->depth.assign(n, 0.0f);
-    f->radius.assign(n, 0.0f);
-    for (auto& c : f->rgb) c.assign(n, 0.0f);
+    if (for_cuts) {
+        f->radius.assign(n, 0.0f);
+        for (auto& c : f->rgb) c.assign(n, 0.0f);
+    }
     const float* sp[3] = {nullptr, nullptr, nullptr};
     if (ch.p)
         for (int c = 0; c < 3; ++c) {
@@ -321,20 +325,23 @@ std::unique_ptr<FrontSurface> front_surface(const DeepImage& deep, const DeepCha
     for_each_sorted_pixel(deep, s.z, exec, [&](int x, int y, const std::vector<std::size_t>& order) {
         const PixelSurface ps = pixel_surface(s, order);
         if (ps.owner == PixelSurface::npos) return;
-        double acc = 0.0, cr = 0.0, cg = 0.0, cb = 0.0;
-        for (std::size_t k : order) {
-            const double t = 1.0 - acc;
-            cr += t * s.r[k], cg += t * s.g[k], cb += t * s.b[k];
-            acc += t * std::clamp(s.alpha(k), 0.0, 1.0);
-        }
         const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
         f->present[i] = 1;
         f->depth[i] = s.z[ps.owner];
-        if (!sample_radius.empty()) f->radius[i] = sample_radius[ps.owner];
-        f->rgb[0][i] = float(cr), f->rgb[1][i] = float(cg), f->rgb[2][i] = float(cb);
+        if (for_cuts) {
+            double acc = 0.0, cr = 0.0, cg = 0.0, cb = 0.0;
+            for (std::size_t k : order) {
+                const double t = 1.0 - acc;
+                cr += t * s.r[k], cg += t * s.g[k], cb += t * s.b[k];
+                acc += t * std::clamp(s.alpha(k), 0.0, 1.0);
+            }
+            f->radius[i] = sample_radius[ps.owner];
+            f->rgb[0][i] = float(cr), f->rgb[1][i] = float(cg), f->rgb[2][i] = float(cb);
+        }
         if (ch.p)
             for (int c = 0; c < 3; ++c) f->p[c][i] = sp[c][ps.owner];
     });
+    if (!for_cuts) return f;
     SilhouetteGrid& g = f->grid;
     g.width = win.width();
     g.height = win.height();
@@ -410,7 +417,7 @@ private:
     bool extend_on_ = false;
     ExtendOptions extend_;
     ExtensionPlan plan_;
-    std::unique_ptr<FrontSurface> front_;  // cut at silhouettes: onward and seams too
+    std::unique_ptr<FrontSurface> front_;  // sliced by the front surface: onward and seams
 };
 
 Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, const LayerSplit& split,
@@ -429,13 +436,14 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
                              std::to_string(nsamples) + " samples");
     // Depth splits for diffusion: the front surface (cuts at its
     // silhouettes under Auto with radii, each layer's onward and seams).
+    const bool by_front = by_front_surface && split.mode != LayerSplit::Mode::ById && nsamples > 0;
+    const bool at_silhouettes = by_front && split.mode == LayerSplit::Mode::Auto &&
+                                split.blur_cuts != LayerSplit::BlurCuts::Off && sample_radius.size() == nsamples;
     std::unique_ptr<FrontSurface> front;
-    if (by_front_surface && split.mode != LayerSplit::Mode::ById && nsamples > 0) {
-        front = front_surface(deep, D->ch_, sample_radius, exec);
+    if (by_front) {
+        front = front_surface(deep, D->ch_, sample_radius, at_silhouettes, exec);
         if (exec.is_cancelled()) return Status::cancelled("deep layers");
     }
-    const bool at_silhouettes = front && split.mode == LayerSplit::Mode::Auto &&
-                                split.blur_cuts != LayerSplit::BlurCuts::Off && sample_radius.size() == nsamples;
     Result<SampleLayers> sl = split.mode == LayerSplit::Mode::ById
                                   ? layers_by_id(deep, z, split.id_channel)
                                   : Result<SampleLayers>(layers_by_depth(std::span<const float>(z, nsamples), split, sample_radius, exec,
