@@ -342,25 +342,28 @@ std::vector<int> carried_channels(const Image& flat, const Image& rgba) {
     return carried;
 }
 
-// Copies channel `c` of src onto channel `dc` of dst over the overlap of the
-// windows (dst is zero elsewhere).
-void carry_channel(const Image& src, int c, Image& dst, int dc) {
-    const Roi ov = intersect(src.data_window(), dst.data_window());
-    for (int y = ov.y0; y < ov.y1; ++y) {
-        if (src.channel(c).type == PixelType::UInt) {
-            const std::uint32_t* s = src.uplane(c) + src.offset(ov.x0, y);
-            std::copy(s, s + ov.width(), dst.uplane(dc) + dst.offset(ov.x0, y));
-        } else {
-            const float* s = src.plane(c) + src.offset(ov.x0, y);
-            std::copy(s, s + ov.width(), dst.plane(dc) + dst.offset(ov.x0, y));
-        }
-    }
+// Row y of `dst` over its window: `src` (its own row y, `src_win` in
+// absolute pixels) where the windows overlap, zero elsewhere.
+template <class T>
+void carry_row(const T* src, const Roi& src_win, T* dst, const Roi& dst_win, int y) {
+    const Roi ov = intersect(src_win, dst_win);
+    const bool in = !ov.empty() && y >= ov.y0 && y < ov.y1;
+    T* row = dst + std::size_t(y - dst_win.y0) * std::size_t(dst_win.width());
+    const int xa = in ? ov.x0 : dst_win.x1, xb = in ? ov.x1 : dst_win.x1;
+    std::fill(row, row + (xa - dst_win.x0), T(0));
+    if (in)
+        std::copy_n(src + std::size_t(y - src_win.y0) * std::size_t(src_win.width()) + std::size_t(ov.x0 - src_win.x0),
+                    ov.width(), row + (xa - dst_win.x0));
+    std::fill(row + (xb - dst_win.x0), row + dst_win.width(), T(0));
 }
 
 // The one flat output part: the defocused R, G, B, A with the reference's
 // types, display window, metadata and names, then the channels carried from
-// `carry_from` (a single flat input; nullptr: none).
-Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* carry_from) {
+// `carry_from` (a single flat input; nullptr: none), zero outside its window.
+// Written row by row in parallel into planes not zeroed first: at 4K a
+// carried part is a dozen 33 MB planes, which one zeroing thread then a
+// copying one took 0.1 s to fill.
+Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* carry_from, const Exec& exec) {
     const std::vector<int> carried = carry_from ? carried_channels(*carry_from, rgba) : std::vector<int>{};
     Image res;
     if (carried.empty()) {
@@ -372,9 +375,22 @@ Result<Image> output_part(Image rgba, const OutputReference& ref, const Image* c
         std::vector<ChannelSpec> specs;
         for (int c = 0; c < 4; ++c) specs.push_back({rgba.channel(c).name, ref.types[std::size_t(c)]});
         for (int c : carried) specs.push_back(carry_from->channel(c));
-        res = Image(std::move(specs), rgba.data_window(), ref.display);
-        for (int c = 0; c < 4; ++c) std::copy(rgba.plane(c), rgba.plane(c) + rgba.npixels(), res.plane(c));
-        for (std::size_t k = 0; k < carried.size(); ++k) carry_channel(*carry_from, carried[k], res, 4 + int(k));
+        const Roi win = rgba.data_window();
+        res = Image::uninitialized(std::move(specs), win, ref.display);
+        const Roi from = carry_from->data_window();
+        const bool ok = parallel_for(exec, win.height(), [&](long r0, long r1) {
+            for (int y = win.y0 + int(r0); y < win.y0 + int(r1); ++y) {
+                for (int c = 0; c < 4; ++c) carry_row(rgba.plane(c), win, res.plane(c), win, y);
+                for (std::size_t k = 0; k < carried.size(); ++k) {
+                    const int c = carried[k], dc = 4 + int(k);
+                    if (carry_from->channel(c).type == PixelType::UInt)
+                        carry_row(carry_from->uplane(c), from, res.uplane(dc), win, y);
+                    else
+                        carry_row(carry_from->plane(c), from, res.plane(dc), win, y);
+                }
+            }
+        }, 16);
+        if (!ok) return Status::cancelled("defocus");
     }
     res.metadata = *ref.metadata;
     res.name = ref.name;
@@ -423,7 +439,7 @@ Result<ImageSet> defocus(const ImageSet& input, const BlurField& field, const Ca
     if (!out) return out.status();
 
     const bool single_flat = choice.kind != InputKind::Deep && input.size() == 1;
-    auto part = output_part(std::move(out).value(), ref, single_flat ? &input.flat(0) : nullptr);
+    auto part = output_part(std::move(out).value(), ref, single_flat ? &input.flat(0) : nullptr, exec);
     if (!part) return part.status();
     ImageSet set;
     set.parts.emplace_back(std::move(part).value());

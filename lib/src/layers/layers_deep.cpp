@@ -404,10 +404,8 @@ private:
     DeepLayers(const DeepImage& deep, const LayerSplit& split) : deep_(deep), split_(split) {}
     Status plan(const ExtendOptions& extend, const Exec& exec);
     // Layer l's surface onward (Layer::onward) over `box` grown to hold it,
-    // and its seams after the extension (Layer::seam), as a plate layer's.
+    // as a plate layer's.
     void mark_onward(int l, Layer& L, Roi& box, const Exec& exec) const;
-    void write_onward(Layer& L) const;
-    void mark_seams(Layer& L, const Roi& own_box, const std::vector<unsigned char>& own, const Exec& exec) const;
 
     const DeepImage& deep_;
     LayerSplit split_;
@@ -586,10 +584,24 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
             }
     });
     if (!ok) return Status::cancelled();
-    if (!L.onward.empty()) write_onward(L);
+    if (!L.onward.empty()) {
+        const FrontSurface& f = *front_;
+        const bool p = !f.p[0].empty();
+        write_onward(L, deep_.data_window(), f.depth.data(),
+                     {p ? f.p[0].data() : nullptr, p ? f.p[1].data() : nullptr, p ? f.p[2].data() : nullptr});
+    }
     if (extend_on_)
         if (Status st = extend_layer(L, l, plan_, extend_, exec); !st) return st;
-    if (front_ && !empty) mark_seams(L, own_box, own, exec);
+    // Seams, as a plate layer's: the front surface (its owner's depth) in
+    // front of an extension pixel (covered, no sample of the layer) is the
+    // layer's own.
+    if (front_ && !empty)
+        mark_seams(L, deep_.data_window(), front_->depth.data(), front_->present.data(), kContinuity,
+                   [&own, &own_box](std::size_t, int x, int y) {
+                       return own_box.contains(x, y) && own[std::size_t(y - own_box.y0) * std::size_t(own_box.width()) +
+                                                            std::size_t(x - own_box.x0)];
+                   },
+                   exec);
     return &L;
 }
 
@@ -606,59 +618,6 @@ void DeepLayers::mark_onward(int l, Layer& L, Roi& box, const Exec& exec) const 
     L.onward_box = Roi{b.x0 + win.x0, b.y0 + win.y0, b.x1 + win.x0, b.y1 + win.y0};
     L.onward = std::move(onward.mask);  // the same box, in absolute coordinates
     box = unite(box, L.onward_box);
-}
-
-void DeepLayers::write_onward(Layer& L) const {
-    // Uncovered (as written blank), with the front surface's depth and positions.
-    const Roi win = deep_.data_window();
-    const Roi& b = L.onward_box;
-    const FrontSurface& f = *front_;
-    const std::array<float*, 8> op = layer_planes(L.image);
-    for (int y = b.y0; y < b.y1; ++y)
-        for (int x = b.x0; x < b.x1; ++x) {
-            if (!L.onward[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
-            const std::size_t i = std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0);
-            const std::size_t o = L.image.offset(x, y);
-            op[4][o] = f.depth[i];
-            if (op[5])
-                for (int c = 0; c < 3; ++c) op[std::size_t(5 + c)][o] = f.p[c][i];
-        }
-}
-
-void DeepLayers::mark_seams(Layer& L, const Roi& own_box, const std::vector<unsigned char>& own, const Exec& exec) const {
-    // An extension pixel (covered, no sample of the layer) is a seam where
-    // the surface in front of it, which hides it, is the layer's own: the
-    // front surface's depth there within kContinuity of the extension's.
-    const Roi lw = L.image.data_window(), win = deep_.data_window();
-    const int zc = L.image.channel_index("Z");
-    if (lw.empty() || zc < 0) return;
-    const FrontSurface& f = *front_;
-    const int lww = lw.width();
-    std::vector<unsigned char> seam(lw.npixels(), 0);
-    std::vector<Roi> row_box(std::size_t(lw.height()));
-    parallel_for(exec, lw.height(), [&](long r0, long r1) {
-        const float* A = L.image.plane(3);
-        const float* Z = L.image.plane(zc);
-        for (int y = lw.y0 + int(r0); y < lw.y0 + int(r1); ++y) {
-            int xmin = lw.x1, xmax = lw.x0 - 1;
-            for (int x = lw.x0; x < lw.x1; ++x) {
-                const std::size_t o = std::size_t(y - lw.y0) * std::size_t(lww) + std::size_t(x - lw.x0);
-                if (!(A[o] > 0.0f) || !win.contains(x, y)) continue;
-                if (own_box.contains(x, y) &&
-                    own[std::size_t(y - own_box.y0) * std::size_t(own_box.width()) + std::size_t(x - own_box.x0)])
-                    continue;
-                const std::size_t i = std::size_t(y - win.y0) * std::size_t(win.width()) + std::size_t(x - win.x0);
-                if (!f.present[i] || !same_surface(f.depth[i], Z[o], kContinuity)) continue;
-                seam[o] = 1;
-                xmin = std::min(xmin, x);
-                xmax = x;
-            }
-            if (xmax >= xmin) row_box[std::size_t(y - lw.y0)] = Roi{xmin, y, xmax + 1, y + 1};
-        }
-    }, 16);
-    for (const Roi& r : row_box)
-        if (!r.empty()) L.seam_box = unite(L.seam_box, r);
-    if (!L.seam_box.empty()) L.seam = std::move(seam);
 }
 
 }  // namespace

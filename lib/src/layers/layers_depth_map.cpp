@@ -143,12 +143,6 @@ private:
     // Layer s before its extension: its own pixels (and, with continued
     // surfaces, those of nearer slices that continue its surface).
     Status make_base(int s, Layer& L, const Exec& exec) const;
-    // Layer s's extension pixels whose pixel in the plate continues the
-    // layer's surface (Layer::seam), after its extension.
-    void mark_seams(int s, Layer& L, const Exec& exec) const;
-    // Gives layer L's surface onward (L.onward, already marked) the plate's
-    // depth and positions.
-    void write_onward(Layer& L, const float* const pp[3]) const;
     friend Result<std::vector<Layer>> continued_layers(const Image&, const SliceOptions&, const Exec&);
 
     const Image& img_;
@@ -481,69 +475,19 @@ Status PlateLayers::make_base(int s, Layer& L, const Exec& exec) const {
         }
     }, 8);
     if (!done) return Status::cancelled("depth-map layers");
-    if (!L.onward.empty()) write_onward(L, pp);
+    if (!L.onward.empty()) write_onward(L, win, ps_.depth.data(), {pp[0], pp[1], pp[2]});
     return Status::ok();
-}
-
-void PlateLayers::write_onward(Layer& L, const float* const pp[3]) const {
-    // Uncovered (as written blank), with the plate's depth and positions.
-    const Roi win = img_.data_window();
-    const Roi& b = L.onward_box;
-    const std::size_t W = std::size_t(win.width());
-    const std::array<float*, 8> op = layer_planes(L.image);
-    for (int y = b.y0; y < b.y1; ++y)
-        for (int x = b.x0; x < b.x1; ++x) {
-            if (!L.onward[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
-            const std::size_t i = std::size_t(y - win.y0) * W + std::size_t(x - win.x0);
-            const std::size_t o = L.image.offset(x, y);
-            op[4][o] = ps_.depth[i];
-            if (pos_)
-                for (int c = 0; c < 3; ++c) op[std::size_t(5 + c)][o] = pp[c][i];
-        }
-}
-
-void PlateLayers::mark_seams(int s, Layer& L, const Exec& exec) const {
-    L.seam.clear();
-    L.seam_box = Roi{};
-    const Roi lw = L.image.data_window(), win = img_.data_window();
-    const int zc = L.image.channel_index("Z");
-    if (lw.empty() || zc < 0) return;
-    const int W = win.width(), lww = lw.width();
-    std::vector<unsigned char> seam(lw.npixels(), 0);
-    std::vector<Roi> row_box(std::size_t(lw.height()));
-    parallel_for(exec, lw.height(), [&](long r0, long r1) {
-        const float* A = L.image.plane(3);
-        const float* Z = L.image.plane(zc);
-        const int *sl = slice_.data(), *fg = fg_slice_.data();
-        const float* depth = ps_.depth.data();
-        unsigned char* out = seam.data();
-        for (int y = lw.y0 + int(r0); y < lw.y0 + int(r1); ++y) {
-            int xmin = lw.x1, xmax = lw.x0 - 1;
-            const std::size_t orow = std::size_t(y - lw.y0) * std::size_t(lww);
-            const std::size_t irow = std::size_t(y - win.y0) * std::size_t(W) + std::size_t(lw.x0 - win.x0);
-            for (int x = 0; x < lww; ++x) {
-                const std::size_t o = orow + std::size_t(x), i = irow + std::size_t(x);
-                // Own pixels (whole or a foreground part) and blanks are not
-                // extension; an extension pixel is hidden by a nearer slice,
-                // whose surface the plate's depth there is.
-                if (sl[i] == s || fg[i] == s || !(A[o] > 0.0f)) continue;
-                if (!same_surface(depth[i], Z[o], options_.continuity)) continue;
-                out[o] = 1;
-                xmin = std::min(xmin, lw.x0 + x);
-                xmax = lw.x0 + x;
-            }
-            if (xmax >= xmin) row_box[std::size_t(y - lw.y0)] = Roi{xmin, y, xmax + 1, y + 1};
-        }
-    }, 16);
-    for (const Roi& r : row_box)
-        if (!r.empty()) L.seam_box = unite(L.seam_box, r);
-    if (!L.seam_box.empty()) L.seam = std::move(seam);
 }
 
 Result<const Layer*> PlateLayers::make(int s, Layer& L, const Exec& exec) const {
     if (Status st = make_base(s, L, exec); !st) return st;
     if (Status st = extend_layer(L, s, plan_, extend_, exec); !st) return st;
-    mark_seams(s, L, exec);
+    // Own pixels: whole, or a split pixel's foreground part. Any other
+    // covered pixel is extension, hidden by a nearer slice, whose surface
+    // the plate's depth there is.
+    const int *sl = slice_.data(), *fg = fg_slice_.data();
+    mark_seams(L, img_.data_window(), ps_.depth.data(), nullptr, options_.continuity,
+               [sl, fg, s](std::size_t i, int, int) { return sl[i] == s || fg[i] == s; }, exec);
     return &L;
 }
 

@@ -168,6 +168,10 @@ struct SurfaceOnward {
     std::vector<unsigned char> mask;
 };
 SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own, int reach, const Exec& exec);
+// Layer L's surface onward (L.onward, marked) written as uncovered pixels
+// (blank colour) that carry the surface's depth and positions there:
+// `depth` and `p` (null: no positions) row-major over `frame`.
+void write_onward(Layer& L, const Roi& frame, const float* depth, const std::array<const float*, 3>& p);
 
 // Which slice continues or extends behind each pixel: among the slices behind
 // the pixel's nearest (the nearer of slice[i] and fg_slice[i]; slice -1: no
@@ -210,6 +214,48 @@ Result<ExtensionPlan> plan_extension(const std::vector<Layer>& front_to_back, co
 Status extend_layer(Layer& layer, int s, const ExtensionPlan& plan, const ExtendOptions& options, const Exec& exec);
 Status check_extendable(const Layer& layer);
 Status check_extend_options(const ExtendOptions& options, const Roi& frame);
+
+// Layer L's seams (Layer::seam, seam_box) once it is extended: its
+// extension pixels (covered, not its own: own(i, x, y), i the frame index)
+// that a nearer part of its own surface hides, where the frame's front
+// surface (`depth`, and `present`, null: everywhere, row-major over
+// `frame`) lies within `continuity` of the extension's depth. Rows in
+// parallel, each with its own span; the union taken after, in row order.
+template <class Own>
+void mark_seams(Layer& L, const Roi& frame, const float* depth, const unsigned char* present, double continuity,
+                const Own& own, const Exec& exec) {
+    L.seam.clear();
+    L.seam_box = Roi{};
+    const Roi lw = L.image.data_window();
+    const int zc = L.image.channel_index("Z");
+    const Roi rows = intersect(lw, frame);
+    if (rows.empty() || zc < 0) return;
+    std::vector<unsigned char> seam(lw.npixels(), 0);
+    std::vector<Roi> row_box(std::size_t(lw.height()));
+    parallel_for(exec, rows.height(), [&](long r0, long r1) {
+        // Locals: a byte store may alias anything reached through a reference.
+        const float* A = L.image.plane(3);
+        const float* Z = L.image.plane(zc);
+        unsigned char* out = seam.data();
+        for (int y = rows.y0 + int(r0); y < rows.y0 + int(r1); ++y) {
+            int xmin = rows.x1, xmax = rows.x0 - 1;
+            const std::size_t orow = std::size_t(y - lw.y0) * std::size_t(lw.width());
+            const std::size_t frow = std::size_t(y - frame.y0) * std::size_t(frame.width());
+            for (int x = rows.x0; x < rows.x1; ++x) {
+                const std::size_t o = orow + std::size_t(x - lw.x0), i = frow + std::size_t(x - frame.x0);
+                if (!(A[o] > 0.0f) || own(i, x, y)) continue;
+                if ((present && !present[i]) || !same_surface(depth[i], Z[o], continuity)) continue;
+                out[o] = 1;
+                xmin = std::min(xmin, x);
+                xmax = x;
+            }
+            if (xmax >= xmin) row_box[std::size_t(y - lw.y0)] = Roi{xmin, y, xmax + 1, y + 1};
+        }
+    }, 16);
+    for (const Roi& r : row_box)
+        if (!r.empty()) L.seam_box = unite(L.seam_box, r);
+    if (!L.seam_box.empty()) L.seam = std::move(seam);
+}
 
 // Every layer of a source, made in order (the list builders).
 Result<std::vector<Layer>> make_all(const LayerSource& source, const Exec& exec);

@@ -32,6 +32,9 @@ void for_each_neighbour(int x, int y, const Roi& g, F&& f) {
             if ((dx != 0 || dy != 0) && g.contains(x + dx, y + dy)) f(x + dx, y + dy);
 }
 
+// Whether the three slices from p are all s.
+inline bool all_own(const int* p, int s) { return p[0] == s && p[1] == s && p[2] == s; }
+
 }  // namespace
 
 SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own, int reach, const Exec& exec) {
@@ -65,6 +68,10 @@ SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own
             for (int x = o.x0; x < o.x1; ++x) {
                 const std::size_t i = frame_index(x, y);
                 if (slice[i] != s) continue;
+                // Inside the slice (all 8 neighbours its own): neither.
+                if (x > 0 && x + 1 < W && y > 0 && y + 1 < H && all_own(slice + i - std::size_t(W) - 1, s) &&
+                    slice[i - 1] == s && slice[i + 1] == s && all_own(slice + i + std::size_t(W) - 1, s))
+                    continue;
                 bool on = false, edge = false;
                 for_each_neighbour(x, y, frame, [&](int xx, int yy) {
                     const std::size_t j = frame_index(xx, yy);
@@ -135,6 +142,20 @@ SurfaceOnward surface_onward(const SurfaceOnwardInput& in, int s, const Roi& own
         out.mask[std::size_t(y - area.y0) * std::size_t(area.width()) + std::size_t(x - area.x0)] = 1;
     }
     return out;
+}
+
+void write_onward(Layer& L, const Roi& frame, const float* depth, const std::array<const float*, 3>& p) {
+    const Roi& b = L.onward_box;
+    const std::array<float*, 8> op = layer_planes(L.image);
+    const bool positions = op[5] && p[0];
+    for (int y = b.y0; y < b.y1; ++y)
+        for (int x = b.x0; x < b.x1; ++x) {
+            if (!L.onward[std::size_t(y - b.y0) * std::size_t(b.width()) + std::size_t(x - b.x0)]) continue;
+            const std::size_t i = std::size_t(y - frame.y0) * std::size_t(frame.width()) + std::size_t(x - frame.x0);
+            const std::size_t o = L.image.offset(x, y);
+            op[4][o] = depth[i];
+            for (int c = 0; positions && c < 3; ++c) op[std::size_t(5 + c)][o] = p[std::size_t(c)][i];
+        }
 }
 
 }  // namespace gdof::layers_detail
