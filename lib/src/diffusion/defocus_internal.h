@@ -148,9 +148,10 @@ using SpreadSeams = std::function<Status(const ImageView& planes, const RadiusMa
 // A layer's colour behind a nearer part of its own surface, after `out`
 // was spread (defocus_seams.cpp): where the layer has seam pixels
 // (Layer::seam), they are spread alone over their box grown by `margin`
-// (within `work`) and the layer's colour there becomes its other pixels'
-// normalised spread, so the two parts of a surface cut by a slice bound
-// add up to the surface blurred whole.
+// (within `work`; pieces of seam more than 2 `margin` apart each over its
+// own) and the layer's colour there becomes its other pixels' normalised
+// spread, so the two parts of a surface cut by a slice bound add up to the
+// surface blurred whole.
 Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const Roi& work, int margin,
                              const SpreadSeams& spread, DiffusedLayer& out, const Exec& exec);
 

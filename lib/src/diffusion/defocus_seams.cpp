@@ -18,6 +18,8 @@
 // other surfaces, which a fill must guess) is small, the colour fades back
 // to the whole spread, which the fill carries deep behind the near part.
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "diffusion/defocus_internal.h"
 
@@ -32,13 +34,75 @@ constexpr float kOwnShare = 0.2f;
 // No own coverage at all below this: the whole layer's colour.
 constexpr float kNoShare = 1e-4f;
 
-}  // namespace
+// The boxes the seam pixels are spread over: the seam's box cut where
+// rows, then columns, then rows again (and so on) hold no seam pixel over
+// more than 2 `margin` (an XY cut), each part tightened to its pixels and
+// grown by `margin` within `work`. The parts' boxes are then disjoint, each
+// part's pixels lie `margin` inside its box as they did inside the one box
+// around them all, and two pieces of seam far apart (a sphere's ring cut by
+// a bound and a band of floor 400 px below it, at 4K) no longer spread over
+// everything between them.
+std::vector<Roi> seam_boxes(const Layer& layer, int margin, const Roi& work, const Exec& exec) {
+    const Roi lw = layer.image.data_window();
+    const std::size_t LW = std::size_t(lw.width());
+    const auto seam_at = [&](int x, int y) {
+        return layer.seam[std::size_t(y - lw.y0) * LW + std::size_t(x - lw.x0)] != 0;
+    };
+    std::vector<Roi> leaves;
+    std::vector<Roi> todo{intersect(layer.seam_box, lw)};
+    const int gap = 2 * margin;
+    while (!todo.empty()) {
+        const Roi r = todo.back();
+        todo.pop_back();
+        if (r.empty()) continue;
+        // Which rows and columns of r hold seam pixels (rows in parallel;
+        // each band of rows marks its own columns, or-ed after).
+        std::vector<unsigned char> rows(std::size_t(r.height()), 0);
+        const long bands = (r.height() + 63) / 64;
+        std::vector<std::vector<unsigned char>> band_cols(static_cast<std::size_t>(bands));
+        parallel_for(exec, bands, [&](long b0, long b1) {
+            for (long b = b0; b < b1; ++b) {
+                std::vector<unsigned char>& cols = band_cols[std::size_t(b)];
+                cols.assign(std::size_t(r.width()), 0);
+                for (int y = r.y0 + int(b) * 64; y < std::min(r.y1, r.y0 + int(b + 1) * 64); ++y)
+                    for (int x = r.x0; x < r.x1; ++x)
+                        if (seam_at(x, y)) rows[std::size_t(y - r.y0)] = cols[std::size_t(x - r.x0)] = 1;
+            }
+        });
+        std::vector<unsigned char> cols(std::size_t(r.width()), 0);
+        for (const auto& c : band_cols)
+            for (std::size_t x = 0; x < c.size(); ++x) cols[x] |= c[x];
+        // The runs of marked lines along one axis, split at gaps over 2 margin.
+        const auto runs = [gap](const std::vector<unsigned char>& line, int origin) {
+            std::vector<std::pair<int, int>> out;  // [first, last + 1)
+            for (int i = 0; i < int(line.size()); ++i) {
+                if (!line[std::size_t(i)]) continue;
+                if (!out.empty() && i - out.back().second <= gap) out.back().second = i + 1;
+                else out.push_back({i, i + 1});
+            }
+            for (auto& [a, b] : out) a += origin, b += origin;
+            return out;
+        };
+        const auto yr = runs(rows, r.y0), xr = runs(cols, r.x0);
+        if (yr.empty()) continue;
+        if (yr.size() > 1) {
+            for (const auto& [a, b] : yr) todo.push_back(Roi{xr.front().first, a, xr.back().second, b});
+        } else if (xr.size() > 1) {
+            for (const auto& [a, b] : xr) todo.push_back(Roi{a, yr[0].first, b, yr[0].second});
+        } else {
+            leaves.push_back(Roi{xr[0].first, yr[0].first, xr[0].second, yr[0].second});
+        }
+    }
+    std::vector<Roi> boxes;
+    for (const Roi& l : leaves)
+        if (const Roi b = intersect(l.grown(margin), work); !b.empty()) boxes.push_back(b);
+    return boxes;
+}
 
-Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const Roi& work, int margin,
-                             const SpreadSeams& spread, DiffusedLayer& out, const Exec& exec) {
-    if (layer.seam.empty() || layer.seam_box.empty()) return Status::ok();
-    const Roi box = intersect(layer.seam_box.grown(margin), work);
-    if (box.empty()) return Status::ok();
+// The seam pixels inside `box` (within work) spread alone over it, and the
+// layer's colour there made its other pixels' normalised spread.
+Status continue_in_box(const Layer& layer, const RadiusMap& radius, const Roi& work, const Roi& box,
+                       const SpreadSeams& spread, DiffusedLayer& out, const Exec& exec) {
     const Image& img = layer.image;
     const Roi lw = img.data_window();
     const RgbaIndices ix = find_rgba(img);
@@ -88,6 +152,18 @@ Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const 
             }
         }
     }, 16);
+    return Status::ok();
+}
+
+}  // namespace
+
+Status continue_across_seams(const Layer& layer, const RadiusMap& radius, const Roi& work, int margin,
+                             const SpreadSeams& spread, DiffusedLayer& out, const Exec& exec) {
+    if (layer.seam.empty() || layer.seam_box.empty()) return Status::ok();
+    const std::vector<Roi> boxes = seam_boxes(layer, margin, work, exec);
+    if (exec.is_cancelled()) return Status::cancelled("seams");  // the boxes may be unfinished
+    for (const Roi& box : boxes)
+        if (Status st = continue_in_box(layer, radius, work, box, spread, out, exec); !st) return st;
     return Status::ok();
 }
 
