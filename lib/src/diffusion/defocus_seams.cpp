@@ -33,6 +33,10 @@ namespace {
 constexpr float kOwnShare = 0.2f;
 // No own coverage at all below this: the whole layer's colour.
 constexpr float kNoShare = 1e-4f;
+// At most this many boxes for a layer's seams; more (specks of seam
+// scattered over a noisy surface) are spread over the one box around them
+// all, as every spread has a cost of its own besides its pixels.
+constexpr std::size_t kMaxSeamBoxes = 32;
 
 // The boxes the seam pixels are spread over: the seam's box cut where
 // rows, then columns, then rows again (and so on) hold no seam pixel over
@@ -93,6 +97,7 @@ std::vector<Roi> seam_boxes(const Layer& layer, int margin, const Roi& work, con
             leaves.push_back(Roi{xr[0].first, yr[0].first, xr[0].second, yr[0].second});
         }
     }
+    if (leaves.size() > kMaxSeamBoxes) leaves.assign(1, intersect(layer.seam_box, lw));
     std::vector<Roi> boxes;
     for (const Roi& l : leaves)
         if (const Roi b = intersect(l.grown(margin), work); !b.empty()) boxes.push_back(b);

@@ -151,3 +151,30 @@ TEST(seam_boxes, PiecesWithinTwiceTheMarginShareABox) {
                     ASSERT_EQ(d.rgba.at(c, x, y), whole.rgba.at(c, x, y)) << "margin " << margin << " at " << x << "," << y;
     }
 }
+
+// Specks of seam scattered far apart (a noisy surface): more pieces than
+// boxes are worth spreading one by one go over the one box around them all,
+// with the same bits.
+TEST(seam_boxes, ScatteredSpecksShareOneBox) {
+    Layer L = seam_layer();
+    std::fill(L.seam.begin(), L.seam.end(), 0);
+    L.seam_box = Roi{};
+    int specks = 0;
+    for (int y = 2; y < kH; y += 12)
+        for (int x = 2; x < kW; x += 12) {
+            L.seam[std::size_t(y) * kW + std::size_t(x)] = 1;
+            L.seam_box = unite(L.seam_box, Roi{x, y, x + 1, y + 1});
+            ++specks;
+        }
+    ASSERT_GT(specks, 32);
+    const RadiusMap radius(kWin.npixels(), 2.0f);
+    std::vector<Roi> few_calls, one_calls;
+    DiffusedLayer few = spread_layer(), one = spread_layer();
+    ASSERT_TRUE(continue_across_seams(L, radius, kWin, 2, box_blur(few_calls), few, Exec{}));
+    ASSERT_TRUE(continue_across_seams(L, radius, kWin, 6, box_blur(one_calls), one, Exec{}));
+    EXPECT_EQ(few_calls.size(), 1u) << "64 specks 11 px apart, margin 2";
+    EXPECT_EQ(one_calls.size(), 1u) << "margin 6: they touch";
+    for (int c = 0; c < 4; ++c)
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) ASSERT_EQ(few.rgba.at(c, x, y), one.rgba.at(c, x, y)) << x << "," << y;
+}
