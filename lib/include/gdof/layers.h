@@ -247,11 +247,17 @@ GDOF_API Result<std::vector<Layer>> layers_from_parts(const ImageSet& set, const
 // black. The extension pixels behind a nearer part of the slice's own
 // surface (the plate's depth there within `continuity` of the fill's) are
 // marked in Layer::seam: there the defocus continues the surface from the
-// slice's own pixels instead of the fill.
+// slice's own pixels instead of the fill. Behind a nearer part of its own
+// surface the extension goes on to surface_reach_px (its edge continued
+// ring by ring), where a near part's blurred edge still lets it show.
 struct SliceOptions {
     LayerSplit split;
     PositionSource source;   // depth channel and its encoding (when `depth` is null)
     double extend_px = 0.0;  // typically the largest blur radius of the image
+    // Behind a nearer part of its own surface a slice reaches this far
+    // (ExtendOptions::surface_reach_px; 0: extend_px), the plate's depth
+    // there being the surface seen.
+    double surface_reach_px = 0.0;
     // Optional: the blur radius of every pixel (row-major over the image's
     // data window), for Auto's blur cuts; empty: gaps only. With a prepared
     // depth that has mixed pixels, `fg_radius` gives their foregrounds'
@@ -333,6 +339,23 @@ struct ExtendOptions {
     //     0.002 lies far below 1, so a knee at 1 barely helps there.
     enum class HighlightKnee { None, One, RimMedian };
     HighlightKnee fill_highlight_knee = HighlightKnee::None;
+    // Behind a nearer part of its own surface (a slice bound across a wall,
+    // where the depth seen, `front_depth`, lies within `continuity` of the
+    // extension's filled depth), a layer reaches this far instead of
+    // extend_px (0: no farther). A near part blurred by R lets its far part
+    // show up to the kernel's reach (defocus_margin(R), about 1.5 R); the far
+    // part extended by R alone leaves the two parts' coverages summing below
+    // one a few pixels inside the near part: a dark band along the bound.
+    // That ring (past extend_px) is continued from the extension's edge, a
+    // ring of pixels at a time (the mean of the neighbours of that surface),
+    // so the extension within extend_px is unchanged. Not for a layer that
+    // fills the frame.
+    double surface_reach_px = 0.0;
+    // Per frame pixel (row-major over `frame`), with surface_reach_px: the
+    // depth seen there (NaN, 0 or inf: nothing). Deep inputs set their own
+    // front surface's. Not owned.
+    std::span<const float> front_depth;
+    double continuity = 1.05;
 };
 GDOF_API Status extend_layers_behind(std::vector<Layer>& front_to_back, const Roi& frame, const ExtendOptions& options,
                                      const Exec& exec = {});

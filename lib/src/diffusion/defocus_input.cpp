@@ -201,6 +201,7 @@ Result<std::unique_ptr<LayerSource>> deep_layers(const DeepImage& d, const BlurF
     // (not into genuinely empty, transparent areas).
     ExtendOptions ext;
     ext.extend_px = std::min(largest_finite(r), settings.diffusion.max_radius);
+    ext.surface_reach_px = defocus_margin(ext.extend_px);  // behind its own surface, as far as the blur spreads
     ext.occluder_alpha = 0.999f;
     ext.continue_coverage = true;  // a ray through empty depths: the layer is empty there
     ext.fill_highlight_knee = ExtendOptions::HighlightKnee::One;
@@ -288,6 +289,7 @@ Result<std::unique_ptr<LayerSource>> depth_map_layers(const Image& flat, const B
     so.source = settings.source;
     so.depth = &pd.value();
     so.extend_px = std::min(std::max(largest_finite(r), largest_finite(rf)), settings.diffusion.max_radius);
+    so.surface_reach_px = defocus_margin(so.extend_px);  // behind its own surface, as far as the blur spreads
     so.mark_onward = settings.filter == DefocusFilter::Diffusion;
     // Plates are continuous (floors, tables): only cuts by blur let a blurred
     // foreground spread over a sharp background, so they are on unless told not.

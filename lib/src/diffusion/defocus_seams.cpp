@@ -52,12 +52,13 @@ std::vector<Roi> seam_boxes(const Layer& layer, int margin, const Roi& work, con
     const auto seam_at = [&](int x, int y) {
         return layer.seam[std::size_t(y - lw.y0) * LW + std::size_t(x - lw.x0)] != 0;
     };
+    const Roi whole = intersect(layer.seam_box, lw);
     std::vector<Roi> leaves;
-    std::vector<Roi> todo{intersect(layer.seam_box, lw)};
+    std::vector<Roi> pending{whole};
     const int gap = 2 * margin;
-    while (!todo.empty()) {
-        const Roi r = todo.back();
-        todo.pop_back();
+    while (!pending.empty()) {
+        const Roi r = pending.back();
+        pending.pop_back();
         if (r.empty()) continue;
         // Which rows and columns of r hold seam pixels (rows in parallel;
         // each band of rows marks its own columns, or-ed after).
@@ -90,14 +91,14 @@ std::vector<Roi> seam_boxes(const Layer& layer, int margin, const Roi& work, con
         const auto yr = runs(rows, r.y0), xr = runs(cols, r.x0);
         if (yr.empty()) continue;
         if (yr.size() > 1) {
-            for (const auto& [a, b] : yr) todo.push_back(Roi{xr.front().first, a, xr.back().second, b});
+            for (const auto& [a, b] : yr) pending.push_back(Roi{xr.front().first, a, xr.back().second, b});
         } else if (xr.size() > 1) {
-            for (const auto& [a, b] : xr) todo.push_back(Roi{a, yr[0].first, b, yr[0].second});
+            for (const auto& [a, b] : xr) pending.push_back(Roi{a, yr[0].first, b, yr[0].second});
         } else {
             leaves.push_back(Roi{xr[0].first, yr[0].first, xr[0].second, yr[0].second});
         }
     }
-    if (leaves.size() > kMaxSeamBoxes) leaves.assign(1, intersect(layer.seam_box, lw));
+    if (leaves.size() > kMaxSeamBoxes) leaves.assign(1, whole);
     std::vector<Roi> boxes;
     for (const Roi& l : leaves)
         if (const Roi b = intersect(l.grown(margin), work); !b.empty()) boxes.push_back(b);

@@ -416,6 +416,11 @@ private:
     ExtendOptions extend_;
     ExtensionPlan plan_;
     std::unique_ptr<FrontSurface> front_;  // sliced by the front surface: onward and seams
+    // Not sliced by it (the bokeh filter's slices of equal extent) but
+    // extended behind a layer's own surface farther: the front surface for
+    // that reach and the seams, without slices.
+    std::unique_ptr<FrontSurface> seen_only_;
+    const FrontSurface* seen() const { return front_ ? front_.get() : seen_only_.get(); }
 };
 
 Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, const LayerSplit& split,
@@ -462,6 +467,20 @@ Result<std::unique_ptr<DeepLayers>> DeepLayers::create(const DeepImage& deep, co
         D->extend_on_ = true;
         D->extend_ = *extend;
         if (Status st = D->plan(*extend, exec); !st) return st;
+        // The reach behind a layer's own surface compares with the depth
+        // seen at each pixel: the front surface's (made for it alone when
+        // the layers are not sliced by it).
+        D->extend_.front_depth = {};
+        if (extend->surface_reach_px > extend->extend_px) {
+            if (!D->front_) {
+                DeepChannels depth_only = D->ch_;  // no positions: only the depth and presence are read
+                depth_only.p.reset();
+                D->seen_only_ = front_surface(deep, depth_only, {}, false, exec);
+                if (exec.is_cancelled()) return Status::cancelled("deep layers");
+            }
+            D->extend_.front_depth = D->seen()->depth;
+            D->extend_.continuity = kContinuity;
+        }
     } else if (extend) {
         if (Status st = check_extend_options(*extend, deep.data_window()); !st) return st;
     }
@@ -542,7 +561,8 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
     L.image = layer_image(with_positions, box, deep_.display_window(), deep_.metadata, L.name, deep_.view);
     Image& img = L.image;
     // Which pixels of the box hold samples of the layer (for its seams).
-    std::vector<unsigned char> own(front_ ? own_box.npixels() : 0, 0);
+    const FrontSurface* seen = this->seen();
+    std::vector<unsigned char> own(seen ? own_box.npixels() : 0, 0);
     const SamplePlanes s(deep_, ch_);
     const float* sp[3] = {with_positions ? deep_.samples((*ch_.p)[0]) : nullptr,
                           with_positions ? deep_.samples((*ch_.p)[1]) : nullptr,
@@ -595,8 +615,8 @@ Result<const Layer*> DeepLayers::make(int l, Layer& L, const Exec& exec) const {
     // Seams, as a plate layer's: the front surface (its owner's depth) in
     // front of an extension pixel (covered, no sample of the layer) is the
     // layer's own.
-    if (front_ && !empty)
-        mark_seams(L, deep_.data_window(), front_->depth.data(), front_->present.data(), kContinuity,
+    if (seen && !empty)
+        mark_seams(L, deep_.data_window(), seen->depth.data(), seen->present.data(), kContinuity,
                    [&own, &own_box](std::size_t, int x, int y) {
                        return own_box.contains(x, y) && own[std::size_t(y - own_box.y0) * std::size_t(own_box.width()) +
                                                             std::size_t(x - own_box.x0)];

@@ -201,6 +201,9 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
                              "') needs a deep image; use 'auto' or a layer count");
     if (!(options.extend_px >= 0.0) || std::isinf(options.extend_px))
         return Status::error("depth-map layers: extend_px must be finite and >= 0, got " + std::to_string(options.extend_px));
+    if (!(options.surface_reach_px >= 0.0) || std::isinf(options.surface_reach_px))
+        return Status::error("depth-map layers: surface_reach_px must be finite and >= 0, got " +
+                             std::to_string(options.surface_reach_px));
     if (!(options.continuity > 1.0) || !(options.continuity < 2.0))
         return Status::error("depth-map layers: continuity must be in (1, 2), got " + std::to_string(options.continuity));
     std::unique_ptr<PlateLayers> L(new PlateLayers(img));
@@ -382,7 +385,8 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     // Only owners within reach matter (the farthest fills beyond it); with
     // continued surfaces a layer's coverage grows by up to reach * sqrt(2)
     // before its own reach is measured.
-    const double bound = options.continue_surfaces ? options.extend_px * 2.5 + 2.0 : options.extend_px;
+    const double reach = std::max(options.extend_px, options.surface_reach_px);
+    const double bound = options.continue_surfaces ? reach * 2.5 + 2.0 : reach;
     BackgroundOwners bo = background_owners(L->slice_, L->fg_slice_, ns, W, H, exec, bound);
     L->owner_ = std::move(bo.owner);
     L->owner_distance_ = std::move(bo.distance);
@@ -411,6 +415,9 @@ Result<std::unique_ptr<LayerSource>> PlateLayers::create(const Image& img, const
     L->extend_.owner_distance = L->owner_distance_;
     L->extend_.fill_from_hidden_edge = true;
     L->extend_.fill_highlight_knee = ExtendOptions::HighlightKnee::RimMedian;
+    L->extend_.surface_reach_px = options.surface_reach_px;
+    L->extend_.front_depth = L->ps_.depth;
+    L->extend_.continuity = options.continuity;
     return std::unique_ptr<LayerSource>(std::move(L));
 }
 

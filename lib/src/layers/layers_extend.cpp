@@ -265,7 +265,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     bool any = false;
     for (const Roi& r : row_box)
         if (!r.empty()) box = unite(box, r), any = true;
-    if (!any) return Status::ok();
+    if (!any) return extend_ring(L, s, plan, opt, exec);  // nothing within extend_px
 
     // Spun where the extension reaches from the layer's own pixels (all of
     // it unless the layer backs the frame), one grid beyond.
@@ -410,26 +410,7 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
     // Re-window the layer to include the extension (in place when it fits
     // in the layer's window already: a farthest layer that fills the frame).
     const Roi old = src.data_window();
-    if (!(box == old)) {
-        Image out = Image::uninitialized(src.channels(), box, src.display_window());  // every row written below
-        out.metadata = src.metadata;
-        out.name = src.name;
-        out.view = src.view;
-        parallel_for(exec, box.height(), [&](long r0, long r1) {
-            for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
-                for (int c = 0; c < out.nchannels(); ++c) {
-                    if (!out.plane(c)) continue;
-                    float* row = out.plane(c) + out.offset(box.x0, y);
-                    const bool in_old = y >= old.y0 && y < old.y1 && !old.empty();
-                    const int xa = in_old ? old.x0 : box.x1, xb = in_old ? old.x1 : box.x1;
-                    const float blank = blank_layer_value(c);
-                    std::fill(row, row + (xa - box.x0), blank);
-                    if (in_old) std::copy_n(src.plane(c) + src.offset(old.x0, y), old.width(), row + (xa - box.x0));
-                    std::fill(row + (xb - box.x0), row + box.width(), blank);
-                }
-        }, 16);
-        L.image = std::move(out);
-    }
+    if (!(box == old)) rewindow_layer(L, box, exec);
     Image& out = L.image;
     parallel_for(exec, wh, [&](long r0, long r1) {
         // Locals: the float stores below may alias anything reached through a reference.
@@ -452,7 +433,30 @@ Status extend_layer(Layer& L, int s, const ExtensionPlan& plan, const ExtendOpti
             }
         }
     }, 16);
-    return Status::ok();
+    return extend_ring(L, s, plan, opt, exec);
+}
+
+void rewindow_layer(Layer& L, const Roi& box, const Exec& exec) {
+    const Image& src = L.image;
+    const Roi old = src.data_window();
+    Image out = Image::uninitialized(src.channels(), box, src.display_window());  // every row written below
+    out.metadata = src.metadata;
+    out.name = src.name;
+    out.view = src.view;
+    parallel_for(exec, box.height(), [&](long r0, long r1) {
+        for (int y = box.y0 + int(r0); y < box.y0 + int(r1); ++y)
+            for (int c = 0; c < out.nchannels(); ++c) {
+                if (!out.plane(c)) continue;
+                float* row = out.plane(c) + out.offset(box.x0, y);
+                const bool in_old = y >= old.y0 && y < old.y1 && !old.empty();
+                const int xa = in_old ? old.x0 : box.x1, xb = in_old ? old.x1 : box.x1;
+                const float blank = blank_layer_value(c);
+                std::fill(row, row + (xa - box.x0), blank);
+                if (in_old) std::copy_n(src.plane(c) + src.offset(old.x0, y), old.width(), row + (xa - box.x0));
+                std::fill(row + (xb - box.x0), row + box.width(), blank);
+            }
+    }, 16);
+    L.image = std::move(out);
 }
 
 Status check_extendable(const Layer& L) {
@@ -467,6 +471,14 @@ Status check_extend_options(const ExtendOptions& opt, const Roi& frame) {
     if (!opt.owner.empty() && opt.owner.size() != frame.npixels())
         return Status::error("layer extension: " + std::to_string(opt.owner.size()) + " owners for a frame of " +
                              std::to_string(frame.npixels()) + " pixels");
+    if (!(opt.surface_reach_px >= 0.0) || std::isinf(opt.surface_reach_px))
+        return Status::error("layer extension: surface_reach_px must be finite and >= 0, got " +
+                             std::to_string(opt.surface_reach_px));
+    if (!opt.front_depth.empty() && opt.front_depth.size() != frame.npixels())
+        return Status::error("layer extension: " + std::to_string(opt.front_depth.size()) +
+                             " front depths for a frame of " + std::to_string(frame.npixels()) + " pixels");
+    if (!(opt.continuity >= 1.0) || std::isinf(opt.continuity))
+        return Status::error("layer extension: continuity must be finite and >= 1, got " + std::to_string(opt.continuity));
     if (!opt.owner_distance.empty() && opt.owner_distance.size() != opt.owner.size())
         return Status::error("layer extension: " + std::to_string(opt.owner_distance.size()) +
                              " owner distances for " + std::to_string(opt.owner.size()) + " owners");

@@ -212,6 +212,13 @@ Result<ExtensionPlan> plan_extension(const std::vector<Layer>& front_to_back, co
                                      const ExtendOptions& options, const Exec& exec);
 // Layer s extended behind the nearer ones (extend_layers_behind, for one layer).
 Status extend_layer(Layer& layer, int s, const ExtensionPlan& plan, const ExtendOptions& options, const Exec& exec);
+// Past extend_px, layer s's extension goes on behind a nearer part of its
+// own surface as far as surface_reach_px (surface_ring.cpp); called by
+// extend_layer once the layer is extended.
+Status extend_ring(Layer& layer, int s, const ExtensionPlan& plan, const ExtendOptions& options, const Exec& exec);
+// Layer L's image over `box` (which holds its data window): its pixels
+// copied, blank (blank_layer_value) beyond them.
+void rewindow_layer(Layer& L, const Roi& box, const Exec& exec);
 Status check_extendable(const Layer& layer);
 Status check_extend_options(const ExtendOptions& options, const Roi& frame);
 
@@ -228,20 +235,20 @@ void mark_seams(Layer& L, const Roi& frame, const float* depth, const unsigned c
     L.seam_box = Roi{};
     const Roi lw = L.image.data_window();
     const int zc = L.image.channel_index("Z");
-    const Roi rows = intersect(lw, frame);
-    if (rows.empty() || zc < 0) return;
+    const Roi inside = intersect(lw, frame);  // the layer within the frame
+    if (inside.empty() || zc < 0) return;
     std::vector<unsigned char> seam(lw.npixels(), 0);
     std::vector<Roi> row_box(std::size_t(lw.height()));
-    parallel_for(exec, rows.height(), [&](long r0, long r1) {
+    parallel_for(exec, inside.height(), [&](long r0, long r1) {
         // Locals: a byte store may alias anything reached through a reference.
         const float* A = L.image.plane(3);
         const float* Z = L.image.plane(zc);
         unsigned char* out = seam.data();
-        for (int y = rows.y0 + int(r0); y < rows.y0 + int(r1); ++y) {
-            int xmin = rows.x1, xmax = rows.x0 - 1;
+        for (int y = inside.y0 + int(r0); y < inside.y0 + int(r1); ++y) {
+            int xmin = inside.x1, xmax = inside.x0 - 1;
             const std::size_t orow = std::size_t(y - lw.y0) * std::size_t(lw.width());
             const std::size_t frow = std::size_t(y - frame.y0) * std::size_t(frame.width());
-            for (int x = rows.x0; x < rows.x1; ++x) {
+            for (int x = inside.x0; x < inside.x1; ++x) {
                 const std::size_t o = orow + std::size_t(x - lw.x0), i = frow + std::size_t(x - frame.x0);
                 if (!(A[o] > 0.0f) || own(i, x, y)) continue;
                 if ((present && !present[i]) || !same_surface(depth[i], Z[o], continuity)) continue;
