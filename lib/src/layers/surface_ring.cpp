@@ -98,6 +98,17 @@ Status extend_ring(Layer& L, int s, const ExtensionPlan& plan, const ExtendOptio
         if (lw.contains(x, y) && img.plane(3)[img.offset(x, y)] > 0.0f) return false;
         return true;
     };
+    // The mean of (x, y)'s 8-neighbours that `source` gives (source(nx, ny,
+    // value)) and whose depth continues the surface seen at (x, y).
+    auto mean_of_sources = [&](int x, int y, const auto& source) {
+        const float zf = front[fi(x, y)];
+        Mean m;
+        RingPixel v;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+                if ((dx || dy) && source(x + dx, y + dy, v) && same_surface(zf, v.z, opt.continuity)) m.add(v);
+        return m;
+    };
     // Ring 1, rows in parallel: the open pixels beside what the layer covers.
     std::vector<std::vector<RingPixel>> rows(static_cast<std::size_t>(search.height()));
     const bool done = parallel_for(exec, search.height(), [&](long r0, long r1) {
@@ -105,12 +116,7 @@ Status extend_ring(Layer& L, int s, const ExtensionPlan& plan, const ExtendOptio
             std::vector<RingPixel>& out = rows[std::size_t(y - search.y0)];
             for (int x = search.x0; x < search.x1; ++x) {
                 if (!open(x, y)) continue;
-                const float zf = front[fi(x, y)];
-                Mean m;
-                RingPixel v;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx)
-                        if ((dx || dy) && covered(x + dx, y + dy, v) && same_surface(zf, v.z, opt.continuity)) m.add(v);
+                const Mean m = mean_of_sources(x, y, covered);
                 if (m.n > 0) out.push_back(m.at(x, y));
             }
         }
@@ -135,24 +141,15 @@ Status extend_ring(Layer& L, int s, const ExtensionPlan& plan, const ExtendOptio
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int x = ring[k].x + dx, y = ring[k].y + dy;
                     if (!search.contains(x, y) || index[si(x, y)] >= 0 || !open(x, y)) continue;
-                    const float zf = front[fi(x, y)];
-                    Mean m;
-                    RingPixel v;
-                    for (int ey = -1; ey <= 1; ++ey)
-                        for (int ex = -1; ex <= 1; ++ex) {
-                            const int nx = x + ex, ny = y + ey;
-                            if (!(ex || ey) || !search.contains(nx, ny)) continue;
-                            // Sources: covered, or continued by an earlier ring.
-                            const int j = index[si(nx, ny)];
-                            bool source = false;
-                            if (j < 0) {
-                                source = covered(nx, ny, v);
-                            } else if (std::size_t(j) < last) {
-                                v = ring[std::size_t(j)];
-                                source = true;
-                            }
-                            if (source && same_surface(zf, v.z, opt.continuity)) m.add(v);
-                        }
+                    // Sources: covered, or continued by an earlier ring.
+                    const Mean m = mean_of_sources(x, y, [&](int nx, int ny, RingPixel& v) {
+                        if (!search.contains(nx, ny)) return false;
+                        const int j = index[si(nx, ny)];
+                        if (j < 0) return covered(nx, ny, v);
+                        if (std::size_t(j) >= last) return false;
+                        v = ring[std::size_t(j)];
+                        return true;
+                    });
                     if (m.n == 0) continue;
                     index[si(x, y)] = int(ring.size());
                     ring.push_back(m.at(x, y));
